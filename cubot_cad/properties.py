@@ -1,0 +1,180 @@
+"""`RobotProperties`: the record `cubot_cad` hands to `structure_fem`.
+
+SI units throughout (metres, kilograms, newtons, radians, pascals), because
+the consumer is the mechanics model; `cubot_cad` converts from its
+millimetre CAD when it writes the record.
+
+Axes of a robot: x forward (front connector side), y left, z up; the origin is
+the centre of the robot's footprint on its underside.
+
+A file (``robot_properties.json``) holds a :class:`RobotPropertiesFile`, one
+:class:`RobotProperties` per robot model. :func:`default_properties` returns
+the packaged defaults so `structure_fem` runs when `cubot_cad` has not.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, replace
+from importlib import resources
+from pathlib import Path
+
+from .errors import InputError, require
+from .jsonrecord import check_schema, from_dict, read_json, to_jsonable, write_json_atomic
+
+SCHEMA_VERSION = 1
+
+#: Connector kinds. ``front_rear``: grooved pins (front) into engagement
+#: latches (rear); ``side_rail``: left/right sliding rail; ``top_twist``:
+#: cross key / cross hole twist-and-lock; ``ring_capture``: OctBot ring and
+#: three-finger capturer; ``bolt``: the test platform's nut and bolt.
+CONNECTOR_KINDS = ("front_rear", "side_rail", "top_twist", "ring_capture", "bolt")
+
+
+def _finite(x: float) -> bool:
+    return isinstance(x, (int, float)) and math.isfinite(x)
+
+
+@dataclass(frozen=True)
+class ConnectorProperties:
+    """Compliance of one docked coupling, lumped at the coupling point.
+
+    ``rotational_stiffness_nm_per_rad`` is the bending (pitch) stiffness of the
+    joint about the horizontal axis across the coupling; ``backlash_rad`` the
+    free pitch play before it carries load (from print clearance over lever
+    arm); ``gap_m`` the face-to-face gap when docked; ``height_m`` the height
+    of the coupling's load point above the robot's underside.
+    """
+
+    kind: str
+    rotational_stiffness_nm_per_rad: float
+    axial_stiffness_n_per_m: float
+    backlash_rad: float = 0.0
+    gap_m: float = 0.0
+    height_m: float = 0.0
+
+    def __post_init__(self) -> None:
+        require(self.kind in CONNECTOR_KINDS,
+                f"connector kind {self.kind!r} is not one of {', '.join(CONNECTOR_KINDS)}")
+        for name in ("rotational_stiffness_nm_per_rad", "axial_stiffness_n_per_m"):
+            v = getattr(self, name)
+            require(_finite(v) and v > 0, f"{self.kind}.{name} must be > 0, got {v!r}")
+        for name in ("backlash_rad", "gap_m", "height_m"):
+            v = getattr(self, name)
+            require(_finite(v) and v >= 0, f"{self.kind}.{name} must be >= 0, got {v!r}")
+        require(self.backlash_rad < 0.5, f"{self.kind}.backlash_rad {self.backlash_rad} is not a small angle (< 0.5 rad)")
+
+
+@dataclass(frozen=True)
+class RobotProperties:
+    """Rigid-body and coupling facts of one robot model (SI units)."""
+
+    name: str
+    length_m: float
+    width_m: float
+    height_m: float
+    mass_kg: float
+    com_m: tuple[float, float, float]
+    #: Inertia tensor about the centre of mass: Ixx, Iyy, Izz, Ixy, Ixz, Iyz.
+    inertia_kg_m2: tuple[float, float, float, float, float, float]
+    #: How far the main drive wheels protrude below the body: the step a
+    #: deflected front can still climb (thesis: 15 mm).
+    wheel_exposed_height_m: float
+    #: How far the casters protrude (thesis: a third of 10 mm, 3.3 mm).
+    caster_exposed_height_m: float
+    material: str
+    density_kg_m3: float
+    youngs_modulus_pa: float
+    connectors: tuple[ConnectorProperties, ...]
+    source: str = "packaged-default"
+
+    def __post_init__(self) -> None:
+        require(bool(self.name), "robot name must not be empty")
+        for name in ("length_m", "width_m", "height_m", "mass_kg", "density_kg_m3", "youngs_modulus_pa"):
+            v = getattr(self, name)
+            require(_finite(v) and v > 0, f"{self.name}.{name} must be > 0, got {v!r}")
+        for name in ("wheel_exposed_height_m", "caster_exposed_height_m"):
+            v = getattr(self, name)
+            require(_finite(v) and v >= 0, f"{self.name}.{name} must be >= 0, got {v!r}")
+        require(len(self.com_m) == 3 and all(_finite(c) for c in self.com_m),
+                f"{self.name}.com_m must be 3 finite numbers, got {self.com_m!r}")
+        require(len(self.inertia_kg_m2) == 6 and all(_finite(c) for c in self.inertia_kg_m2),
+                f"{self.name}.inertia_kg_m2 must be 6 finite numbers, got {self.inertia_kg_m2!r}")
+        ixx, iyy, izz = self.inertia_kg_m2[:3]
+        require(min(ixx, iyy, izz) > 0, f"{self.name}.inertia_kg_m2 principal terms must be > 0")
+        # Triangle inequality of a physical inertia tensor (with a little slack for rounding).
+        tol = 1e-9 + 1e-6 * (ixx + iyy + izz)
+        require(ixx + iyy >= izz - tol and iyy + izz >= ixx - tol and ixx + izz >= iyy - tol,
+                f"{self.name}.inertia_kg_m2 violates the triangle inequality: {self.inertia_kg_m2!r}")
+        kinds = [c.kind for c in self.connectors]
+        require(len(set(kinds)) == len(kinds), f"{self.name}: duplicate connector kinds {kinds}")
+
+    def connector(self, kind: str) -> ConnectorProperties:
+        """The connector of ``kind``; :class:`InputError` if this robot has none."""
+        for c in self.connectors:
+            if c.kind == kind:
+                return c
+        have = ", ".join(c.kind for c in self.connectors) or "none"
+        raise InputError(f"robot {self.name!r} has no {kind!r} connector (has: {have})")
+
+    def with_connector(self, connector: ConnectorProperties) -> RobotProperties:
+        """A copy with ``connector`` replacing the one of the same kind (or added)."""
+        rest = tuple(c for c in self.connectors if c.kind != connector.kind)
+        return replace(self, connectors=rest + (connector,))
+
+
+@dataclass(frozen=True)
+class RobotPropertiesFile:
+    """What ``robot_properties.json`` holds: one record per robot model."""
+
+    robots: tuple[RobotProperties, ...]
+    schema_version: int = SCHEMA_VERSION
+
+    def __post_init__(self) -> None:
+        require(self.schema_version == SCHEMA_VERSION,
+                f"robot properties schema_version {self.schema_version} is not {SCHEMA_VERSION}")
+        require(len(self.robots) > 0, "robot properties file lists no robots")
+        names = [r.name for r in self.robots]
+        require(len(set(names)) == len(names), f"duplicate robot names {names}")
+
+    def get(self, name: str) -> RobotProperties:
+        for r in self.robots:
+            if r.name == name:
+                return r
+        raise InputError(f"unknown robot {name!r} (known: {', '.join(r.name for r in self.robots)})")
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(r.name for r in self.robots)
+
+    def to_dict(self) -> dict:
+        d = to_jsonable(self)
+        return {"schema_version": d.pop("schema_version"), **d}
+
+    @classmethod
+    def from_dict(cls, data: object, what: str = "robot properties") -> RobotPropertiesFile:
+        check_schema(data, SCHEMA_VERSION, what)
+        return from_dict(cls, data, what)
+
+    def save(self, path: str | os.PathLike) -> Path:
+        return write_json_atomic(path, self.to_dict())
+
+    @classmethod
+    def load(cls, path: str | os.PathLike) -> RobotPropertiesFile:
+        return cls.from_dict(read_json(path), str(path))
+
+
+def default_properties_path() -> Path:
+    """The packaged ``robot_properties.json`` (written by `voidcross cad export`)."""
+    return Path(str(resources.files("cubot_cad") / "data" / "robot_properties.json"))
+
+
+def default_properties() -> RobotPropertiesFile:
+    """The packaged defaults, so downstream packages run without CAD installed."""
+    return RobotPropertiesFile.load(default_properties_path())
+
+
+def load_properties(path: str | os.PathLike | None = None) -> RobotPropertiesFile:
+    """Load ``path``, or the packaged defaults when ``path`` is None."""
+    return default_properties() if path is None else RobotPropertiesFile.load(path)

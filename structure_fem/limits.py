@@ -1,0 +1,226 @@
+"""`StructureLimits`: the record `structure_fem` hands to `swarm_sim`.
+
+For each structure the swarm can build (single line, two lines side by side,
+layered arch levels) it states the widest void it may span, in robot widths,
+and the robot-count rule that keeps it from tipping while it is launched.
+
+Two sources live side by side and are never blurred:
+
+* ``derived`` (the default): computed by `structure_fem` from the robots'
+  mass properties and connector compliance (``voidcross fem table`` writes
+  ``limits.json``; the packaged copy is ``structure_fem/data/limits.json``).
+* ``thesis``: the thesis's own limits (switch every 5 widths up to 30, its
+  counting rules 3 n_g / 6 n_g and the arch counts of Ch. 5.5.2), built by
+  :func:`thesis_limits` so its experiments can be reproduced exactly.
+
+This module imports neither exudyn nor cadquery: `swarm_sim` reads it.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+
+from cubot_cad.jsonrecord import check_schema, from_dict, read_json, to_jsonable, write_json_atomic
+
+from .errors import InputError
+
+SCHEMA_VERSION = 1
+KINDS = ("line", "two_line", "arch")
+MAX_ARCH_WIDE = 8
+MAX_ARCH_HIGH = 4
+
+
+def _req(cond: bool, msg: str) -> None:
+    if not cond:
+        raise InputError(msg)
+
+
+@dataclass(frozen=True)
+class StructureLevel:
+    """One structure and the band of void widths it is used for.
+
+    ``lines`` robots side by side in the core, ``layers`` robots high at the
+    thickest section (1 for line / two-line). While the structure is a
+    cantilever (front not yet on the far ledge) each advance must keep
+    ``rows on the initial ground >= ground_ratio * rows over the void +
+    ground_margin``; the thesis's rule for cases B-D is ratio 2, margin 0
+    (n_p = 2 n_g before landing, n_p = n_g = n_o once bridged).
+    ``min_robots`` lists the minimum swarm size for each void width in
+    ``min_span_widths..max_span_widths``.
+    """
+
+    name: str
+    kind: str
+    lines: int
+    layers: int
+    min_span_widths: int
+    max_span_widths: int
+    ground_ratio: float
+    ground_margin: int
+    min_robots: tuple[int, ...]
+    #: Mechanics at the band's widest void (None in the thesis preset, which had no model).
+    max_deflection_mm: float | None = None
+    min_tipping_factor: float | None = None
+
+    def __post_init__(self) -> None:
+        _req(self.kind in KINDS, f"structure kind {self.kind!r} is not one of {', '.join(KINDS)}")
+        _req(1 <= self.lines <= MAX_ARCH_WIDE,
+             f"structure {self.name!r}: lines={self.lines} outside 1..{MAX_ARCH_WIDE}")
+        _req(1 <= self.layers <= MAX_ARCH_HIGH,
+             f"structure {self.name!r}: layers={self.layers} outside 1..{MAX_ARCH_HIGH}")
+        _req(1 <= self.min_span_widths <= self.max_span_widths,
+             f"structure {self.name!r}: span {self.min_span_widths}..{self.max_span_widths} is empty or non-positive")
+        _req(math.isfinite(self.ground_ratio) and self.ground_ratio > 0,
+             f"structure {self.name!r}: ground_ratio must be > 0, got {self.ground_ratio}")
+        _req(self.ground_margin >= 0, f"structure {self.name!r}: ground_margin must be >= 0")
+        n = self.max_span_widths - self.min_span_widths + 1
+        _req(len(self.min_robots) == n,
+             f"structure {self.name!r}: min_robots has {len(self.min_robots)} entries for {n} widths")
+        _req(all(isinstance(k, int) and k >= 2 for k in self.min_robots),
+             f"structure {self.name!r}: min_robots must be integers >= 2, got {self.min_robots}")
+        for name in ("max_deflection_mm", "min_tipping_factor"):
+            v = getattr(self, name)
+            _req(v is None or math.isfinite(v), f"structure {self.name!r}: {name} is not finite ({v})")
+
+    def robots_for(self, width: int) -> int:
+        _req(self.min_span_widths <= width <= self.max_span_widths,
+             f"void width {width} is outside structure {self.name!r} ({self.min_span_widths}..{self.max_span_widths})")
+        return self.min_robots[width - self.min_span_widths]
+
+
+@dataclass(frozen=True)
+class StructureLimits:
+    """Which structure spans which void, and the counting rules, for one robot model."""
+
+    source: str
+    robot: str
+    clearance_mm: float
+    levels: tuple[StructureLevel, ...]
+    notes: str = ""
+    #: Inputs that produced a derived record (stiffness, masses, ...), for provenance.
+    inputs: dict[str, float] = field(default_factory=dict)
+    schema_version: int = SCHEMA_VERSION
+
+    def __post_init__(self) -> None:
+        _req(self.schema_version == SCHEMA_VERSION,
+             f"limits schema_version {self.schema_version} is not {SCHEMA_VERSION}")
+        _req(len(self.levels) > 0, "limits list no structure")
+        _req(math.isfinite(self.clearance_mm) and self.clearance_mm > 0,
+             f"clearance_mm must be > 0, got {self.clearance_mm}")
+        expected = 1
+        for lvl in self.levels:
+            _req(lvl.min_span_widths == expected,
+                 f"structure {lvl.name!r} starts at width {lvl.min_span_widths}, expected {expected} "
+                 "(levels must tile the widths without gaps)")
+            expected = lvl.max_span_widths + 1
+        names = [lvl.name for lvl in self.levels]
+        _req(len(set(names)) == len(names), f"duplicate structure names {names}")
+
+    @property
+    def max_span_widths(self) -> int:
+        """The widest void (robot widths) any structure here can cross."""
+        return self.levels[-1].max_span_widths
+
+    def level_for(self, width: int) -> StructureLevel:
+        """The structure used for a void ``width`` robot widths wide."""
+        _req(isinstance(width, int) and width >= 1, f"void width must be a positive integer, got {width!r}")
+        for lvl in self.levels:
+            if width <= lvl.max_span_widths:
+                return lvl
+        raise InputError(
+            f"void width {width} is wider than the widest structure in the {self.source} limits "
+            f"({self.max_span_widths} robot widths)")
+
+    def min_robots(self, width: int) -> int:
+        return self.level_for(width).robots_for(width)
+
+    def thresholds(self) -> dict:
+        """``{"line", "two_line", "arch", "arch_levels"}``: widest span of each structure kind."""
+        out: dict = {"line": 0, "two_line": 0, "arch": 0, "arch_levels": []}
+        arches = [lvl.max_span_widths for lvl in self.levels if lvl.kind == "arch"]
+        for lvl in self.levels:
+            if lvl.kind in ("line", "two_line"):
+                out[lvl.kind] = lvl.max_span_widths
+        if arches:
+            out["arch"] = arches[0]
+            out["arch_levels"] = arches[1:]
+        return out
+
+    def to_dict(self) -> dict:
+        d = to_jsonable(self)
+        return {"schema_version": d.pop("schema_version"), **d}
+
+    @classmethod
+    def from_dict(cls, data: object, what: str = "limits") -> StructureLimits:
+        check_schema(data, SCHEMA_VERSION, what)
+        return from_dict(cls, data, what)
+
+    def save(self, path: str | os.PathLike) -> Path:
+        return write_json_atomic(path, self.to_dict())
+
+    @classmethod
+    def load(cls, path: str | os.PathLike) -> StructureLimits:
+        return cls.from_dict(read_json(path), str(path))
+
+
+# --------------------------------------------------------------------------- thesis preset
+
+#: Robots per row-block "a" in the thesis's arch counts (Ch. 5.5.2): a block of
+#: five rows, one robot per row per half cross-section level.
+THESIS_ROWS_PER_BLOCK = 5
+#: (name, widest span, layers, total robots in "a" units = initial + over + target) of the
+#: thesis's arch levels, Ch. 5.5.2 (c)-(f).
+THESIS_ARCHES = (
+    ("arch-15", 15, 3, 28 + 18 + 28),
+    ("arch-20", 20, 3, 28 + 20 + 28),
+    ("arch-25", 25, 4, 60 + 54 + 60),
+    ("arch-30", 30, 4, 60 + 56 + 60),
+)
+
+
+def thesis_limits(robot: str = "cubot") -> StructureLimits:
+    """The thesis's own limits: line to 5 widths (N = 3 n_g), two lines to 10
+    (N = 2 x 3 n_g), arches to 15/20/25/30 with the Ch. 5.5.2 counts, clearance 15 mm.
+
+    Case A's stricter rule (n_p, n_o >= n_g + 1, N = 3 n_g + 2) is a scenario
+    margin applied by the simulator on top of these.
+    """
+    levels = [
+        StructureLevel("line", "line", 1, 1, 1, 5, 2.0, 0, tuple(3 * w for w in range(1, 6))),
+        StructureLevel("two_line", "two_line", 2, 1, 6, 10, 2.0, 0, tuple(6 * w for w in range(6, 11))),
+    ]
+    lo = 11
+    for name, hi, layers, a_units in THESIS_ARCHES:
+        n = a_units * THESIS_ROWS_PER_BLOCK
+        levels.append(StructureLevel(name, "arch", MAX_ARCH_WIDE, layers, lo, hi, 2.0, 0,
+                                     tuple(n for _ in range(lo, hi + 1))))
+        lo = hi + 1
+    return StructureLimits(
+        source="thesis", robot=robot, clearance_mm=15.0, levels=tuple(levels),
+        notes="Thesis Ch. 5.5.2 / 6.5.2: structure switched every 5 robot widths on the "
+              "1 mm-per-platform extrapolation; counts 3 n_g, 6 n_g and 28a/18a/28a ... (a = 5 rows).")
+
+
+def packaged_limits_path() -> Path:
+    """``structure_fem/data/limits.json``: the derived limits shipped with the package."""
+    return Path(str(resources.files("structure_fem") / "data" / "limits.json"))
+
+
+def load_limits(spec: str | os.PathLike = "derived") -> StructureLimits:
+    """``"derived"`` (packaged output of structure_fem), ``"thesis"``, or a path to a limits.json."""
+    if spec == "thesis":
+        return thesis_limits()
+    if spec == "derived":
+        path = packaged_limits_path()
+        if not path.exists():
+            raise InputError(
+                f"derived limits not found at {path}: run `voidcross fem table` to derive them")
+        return StructureLimits.load(path)
+    p = Path(spec)
+    if not p.exists():
+        raise InputError(f"--limits {spec!s}: not 'derived', 'thesis' or an existing limits.json file")
+    return StructureLimits.load(p)

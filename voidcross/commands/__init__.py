@@ -1,0 +1,1 @@
+"""Sub-commands of `voidcross`: one module per command, each with ``register(sub, common)``."""
