@@ -1,0 +1,126 @@
+"""Compliant couplings between docked robots (SI units), as the mechanics model sees them.
+
+A docked coupling is lumped at one point (the coupling's load point) and has
+
+* a translational spring of ``axial_n_per_m`` in both in-plane directions
+  (the pins / rail / key carry axial and shear load: a stiff pin), and
+* a rotational (pitch) spring of ``rotational_nm_per_rad`` with a *dead band*
+  of half-width ``backlash_rad``: the joint turns freely by ``backlash_rad``
+  either side of its docked position before the spring carries load.
+
+The dead band is smooth (``dead_band_moment``) because a sharp one makes the
+Newton Jacobian jump and the static solver stall on long chains (see the
+toolchain notes). :class:`ConnectorSet` holds the three CuBot couplings
+(front-rear pins, side rail, top twist-lock) or a robot's single coupling,
+with overridable scale factors for the studies.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+from cubot_cad.properties import RobotProperties
+
+from .errors import InputError
+
+#: Width of the smooth transition at the dead-band edges as a fraction of the band.
+SMOOTHING = 0.1
+
+
+def _pos(name: str, v: float) -> None:
+    if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+        raise InputError(f"{name} must be a finite number > 0, got {v!r}")
+
+
+def _nonneg(name: str, v: float) -> None:
+    if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
+        raise InputError(f"{name} must be a finite number >= 0, got {v!r}")
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One planar coupling: stiffnesses (N m/rad, N/m), dead-band half-width (rad), load-point height (m)."""
+
+    kind: str
+    rotational_nm_per_rad: float
+    axial_n_per_m: float
+    backlash_rad: float = 0.0
+    height_m: float = 0.0
+    gap_m: float = 0.0
+
+    def __post_init__(self) -> None:
+        _pos(f"{self.kind} rotational stiffness (N m/rad)", self.rotational_nm_per_rad)
+        _pos(f"{self.kind} axial stiffness (N/m)", self.axial_n_per_m)
+        _nonneg(f"{self.kind} backlash (rad)", self.backlash_rad)
+        _nonneg(f"{self.kind} height (m)", self.height_m)
+        _nonneg(f"{self.kind} gap (m)", self.gap_m)
+        if self.backlash_rad >= 0.5:
+            raise InputError(f"{self.kind} backlash {self.backlash_rad} rad is not a small angle (< 0.5 rad)")
+
+    def scaled(self, stiffness: float = 1.0, backlash: float = 1.0) -> Joint:
+        """Both stiffnesses times ``stiffness``, the dead band times ``backlash``."""
+        _pos("stiffness scale", stiffness)
+        _nonneg("backlash scale", backlash)
+        return replace(self, rotational_nm_per_rad=self.rotational_nm_per_rad * stiffness,
+                       axial_n_per_m=self.axial_n_per_m * stiffness,
+                       backlash_rad=self.backlash_rad * backlash)
+
+
+def dead_band_moment(theta: float, k: float, half_width: float) -> float:
+    """Moment (N m) of a rotational spring ``k`` with a smooth dead band of ``half_width`` rad.
+
+    ``M = k/2 [(t - h) + sqrt((t - h)^2 + e^2)] + k/2 [(t + h) - sqrt((t + h)^2 + e^2)]``
+    with ``e = SMOOTHING * h``: zero at ``t = 0``, odd, and ``k (t -/+ h)``
+    outside the band to within ``k e^2 / (4 |t -/+ h|)``. Its slope at zero is
+    ``k (1 - h / sqrt(h^2 + e^2))`` ~ 0.005 k, which keeps the static Jacobian
+    regular without a separate regularising spring. ``h = 0`` is the plain spring.
+    """
+    if half_width <= 0:
+        return k * theta
+    e = SMOOTHING * half_width
+    a = theta - half_width
+    b = theta + half_width
+    return 0.5 * k * (a + math.sqrt(a * a + e * e)) + 0.5 * k * (b - math.sqrt(b * b + e * e))
+
+
+@dataclass(frozen=True)
+class ConnectorSet:
+    """The couplings one robot model offers: ``front_rear`` (along a line), optional
+    ``side_rail`` (between lines side by side) and ``top_twist`` (between layers)."""
+
+    front_rear: Joint
+    side_rail: Joint | None = None
+    top_twist: Joint | None = None
+
+    @classmethod
+    def from_robot(cls, robot: RobotProperties) -> ConnectorSet:
+        """Map a robot's connectors: its along-the-line coupling is ``front_rear``
+        (CuBot, Cube Robot), ``ring_capture`` (OctBot) or ``bolt`` (test platform)."""
+        kinds = {c.kind: c for c in robot.connectors}
+        line = next((kinds[k] for k in ("front_rear", "ring_capture", "bolt") if k in kinds), None)
+        if line is None:
+            raise InputError(f"robot {robot.name!r} has no front-rear coupling (has: {', '.join(kinds) or 'none'})")
+
+        def joint(c) -> Joint | None:
+            if c is None:
+                return None
+            return Joint(c.kind, c.rotational_stiffness_nm_per_rad, c.axial_stiffness_n_per_m,
+                         c.backlash_rad, c.height_m, c.gap_m)
+
+        return cls(joint(line), joint(kinds.get("side_rail")), joint(kinds.get("top_twist")))
+
+    def scaled(self, stiffness: float = 1.0, backlash: float = 1.0) -> ConnectorSet:
+        def s(j: Joint | None) -> Joint | None:
+            return None if j is None else j.scaled(stiffness, backlash)
+        return ConnectorSet(s(self.front_rear), s(self.side_rail), s(self.top_twist))
+
+    def to_dict(self) -> dict:
+        out = {}
+        for name in ("front_rear", "side_rail", "top_twist"):
+            j = getattr(self, name)
+            if j is not None:
+                out[name] = {"kind": j.kind, "rotational_nm_per_rad": j.rotational_nm_per_rad,
+                             "axial_n_per_m": j.axial_n_per_m, "backlash_rad": j.backlash_rad,
+                             "height_m": j.height_m}
+        return out

@@ -1,0 +1,251 @@
+"""The exudyn model of a docked-robot structure and its static solution (SI units).
+
+:func:`solve` is a function of typed inputs -> :class:`StaticResult`:
+
+* each planar body (robots merged as :mod:`structure_fem.structures` explains)
+  is an ``ObjectRigidBody2D`` at its centre of mass with the robots' summed
+  mass and pitch inertia Iyy from ``robot_properties.json``;
+* each coupling is a *penalty* connector, because Lagrange-multiplier joints
+  stop converging once rotations grow (toolchain notes): an
+  ``ObjectConnectorCartesianSpringDamper`` for the pin (axial stiffness in
+  x and z) plus an ``ObjectConnectorCoordinateSpringDamper`` between the two
+  bodies' rotations with the smooth dead-band moment
+  (:func:`structure_fem.connectors.dead_band_moment`) as its user function;
+* each ledge support is a one-sided spring ``f_z = k_c min(dz, 0)`` under a
+  bottom corner (Python user function); one bilateral horizontal spring at
+  the rearmost support fixes the rigid-body x drift (gravity has no x part);
+* gravity is ramped over load steps by the static solver; the solver
+  settings are the ones the toolchain notes found to matter.
+
+Optional ``flexible=True`` adds each robot's own bending compliance
+``L / (E I)`` (printed material modulus, hollow section ``I`` scaled by the
+robot's fill fraction) in series with the couplings, half a robot on each
+side of every front-rear joint: a lumped beam whose curvature sits at the
+joints, exact for the joints' moment when the robots are short compared with
+the span, enough to show (as Eq. 7.1 suggests) whether body bending matters.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from cubot_cad.properties import RobotProperties
+
+from .connectors import ConnectorSet, dead_band_moment
+from .errors import InputError, SolverFailure
+from .structures import GRAVITY, Layout, Structure, layout, tipping_factor
+
+#: Ledge contact stiffness per support point (N/m): stiff against the couplings, not ill-conditioned.
+CONTACT_N_PER_M = 2.0e6
+
+
+@dataclass(frozen=True)
+class Config:
+    """One static configuration: which structure, how long, where over which void."""
+
+    structure: Structure
+    rows: int
+    rows_over: float
+    void_widths: float
+    phase: str = "cantilever"
+    #: Supports hold in both directions (a clamped root, as in a bench test), not one-sided.
+    clamped: bool = False
+
+    def describe(self, robot: str = "") -> str:
+        who = f"{robot} " if robot else ""
+        return (f"{who}{self.structure.name} {self.rows} rows, {self.rows_over:g} over a "
+                f"{self.void_widths:g}-wide void ({self.phase})")
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    load_steps: int = 8
+    absolute_tolerance: float = 1e-7
+    relative_tolerance: float = 1e-8
+    max_iterations: int = 40
+    contact_n_per_m: float = CONTACT_N_PER_M
+
+
+@dataclass(frozen=True)
+class StaticResult:
+    """Deflected shape and derived facts of one configuration (SI units, z up).
+
+    ``com_m``: (n, 2) deflected centres of mass; ``rotation_rad``: (n,) body
+    pitch (positive nose up); ``underside_m``: (n, 2, 2) deflected bottom
+    rear/front corners per body; ``tip_deflection_m``: how far the front-most
+    bottom corner dropped (positive down); ``joint_rotation_rad``: relative
+    rotation of each front-rear coupling (front minus rear); ``reactions_n``:
+    vertical force at each support; ``tipping_factor``: restoring / overturning
+    gravity moment about the near edge (inf when nothing overhangs).
+    """
+
+    config: Config
+    layout: Layout
+    com_m: np.ndarray
+    rotation_rad: np.ndarray
+    underside_m: np.ndarray
+    tip_deflection_m: float
+    max_deflection_m: float
+    joint_rotation_rad: np.ndarray
+    reactions_n: np.ndarray
+    tipping_factor: float
+    robots: int
+
+    @property
+    def tip_deflection_mm(self) -> float:
+        return 1e3 * self.tip_deflection_m
+
+    @property
+    def total_weight_n(self) -> float:
+        return GRAVITY * sum(b.mass_kg for b in self.layout.bodies)
+
+
+def _flexible(conn: ConnectorSet, robot: RobotProperties) -> ConnectorSet:
+    """Add half a robot's bending compliance on each side of every front-rear joint."""
+    fill = robot.mass_kg / (robot.density_kg_m3 * robot.length_m * robot.width_m * robot.height_m)
+    ei = robot.youngs_modulus_pa * min(fill, 1.0) * robot.width_m * robot.height_m ** 3 / 12.0
+    c_body = robot.length_m / ei
+    fr = conn.front_rear
+    k = 1.0 / (1.0 / fr.rotational_nm_per_rad + c_body)
+    return replace(conn, front_rear=replace(fr, rotational_nm_per_rad=k))
+
+
+def solve(config: Config, robot: RobotProperties, conn: ConnectorSet | None = None,
+          flexible: bool = False, options: SolverOptions = SolverOptions()) -> StaticResult:
+    """Build the exudyn system for ``config`` and solve it statically.
+
+    Raises :class:`SolverFailure` naming the configuration when Newton does not
+    converge or returns a non-finite state.
+    """
+    import exudyn as exu
+    from exudyn.itemInterface import (
+        LoadMassProportional,
+        MarkerBodyMass,
+        MarkerBodyPosition,
+        MarkerNodeCoordinate,
+        NodeRigidBody2D,
+        ObjectConnectorCartesianSpringDamper,
+        ObjectConnectorCoordinateSpringDamper,
+        ObjectGround,
+        ObjectRigidBody2D,
+    )
+
+    if conn is None:
+        conn = ConnectorSet.from_robot(robot)
+    if flexible:
+        conn = _flexible(conn, robot)
+    lay = layout(config.structure, robot, conn, config.rows, config.rows_over, config.void_widths, config.phase)
+    exu.config.printToConsole = False
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    ground = mbs.AddObject(ObjectGround())
+    nodes, objs = [], []
+    for b in lay.bodies:
+        cx, cz = b.com_m
+        n = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[cx, cz, 0.0], initialCoordinates=[0, 0, 0]))
+        o = mbs.AddObject(ObjectRigidBody2D(mass=b.mass_kg, inertia=b.inertia_kg_m2, nodeNumber=n))
+        m = mbs.AddMarker(MarkerBodyMass(bodyNumber=o))
+        mbs.AddLoad(LoadMassProportional(markerNumber=m, loadVector=[0.0, -GRAVITY, 0.0]))
+        nodes.append(n)
+        objs.append(o)
+
+    def local(i: int, p: tuple[float, float]) -> list[float]:
+        cx, cz = lay.bodies[i].com_m
+        return [p[0] - cx, p[1] - cz, 0.0]
+
+    for c in lay.couplings:
+        ma = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[c.a], localPosition=local(c.a, c.point_m)))
+        mb = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[c.b], localPosition=local(c.b, c.point_m)))
+        ka = c.joint.axial_n_per_m * c.count
+        mbs.AddObject(ObjectConnectorCartesianSpringDamper(markerNumbers=[ma, mb], stiffness=[ka, ka, 0.0],
+                                                           damping=[0.0, 0.0, 0.0]))
+        ra = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nodes[c.a], coordinate=2))
+        rb = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nodes[c.b], coordinate=2))
+        kr = c.joint.rotational_nm_per_rad * c.count
+        h = c.joint.backlash_rad
+        if h > 0:
+            def uf(mbs_, t, item, u, v, k, d, off, _h=h):
+                return dead_band_moment(u, k, _h)
+            mbs.AddObject(ObjectConnectorCoordinateSpringDamper(markerNumbers=[ra, rb], stiffness=kr,
+                                                                springForceUserFunction=uf))
+        else:
+            mbs.AddObject(ObjectConnectorCoordinateSpringDamper(markerNumbers=[ra, rb], stiffness=kr))
+
+    kc = options.contact_n_per_m
+
+    def contact(mbs_, t, item, u, v, k, d, off):
+        return [k[0] * u[0], k[1] * min(u[1], 0.0), 0.0]
+
+    rearmost = min(range(len(lay.supports)), key=lambda i: lay.supports[i].point_m[0]) if lay.supports else -1
+    for i, s in enumerate(lay.supports):
+        mg = mbs.AddMarker(MarkerBodyPosition(bodyNumber=ground, localPosition=[s.point_m[0], s.point_m[1], 0.0]))
+        mbd = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[s.body], localPosition=local(s.body, s.point_m)))
+        kz = kc * lay.bodies[s.body].count  # contact stiffness per robot standing on the ledge
+        kx = kz if (i == rearmost or config.clamped) else 0.0
+        extra = {} if config.clamped else {"springForceUserFunction": contact}
+        mbs.AddObject(ObjectConnectorCartesianSpringDamper(markerNumbers=[mg, mbd], stiffness=[kx, kz, 0.0],
+                                                           damping=[0.0, 0.0, 0.0], **extra))
+    mbs.Assemble()
+
+    ss = exu.SimulationSettings()
+    ss.solutionSettings.writeSolutionToFile = False
+    ss.solutionSettings.sensorsStoreAndWriteFiles = False
+    ss.solutionSettings.writeInitialValues = False
+    st = ss.staticSolver
+    st.verboseMode = 0
+    st.numberOfLoadSteps = options.load_steps
+    st.stabilizerODE2term = 1.0
+    st.minimumStepSize = 1e-3
+    st.adaptiveStep = True
+    st.newton.adaptInitialResidual = False
+    st.newton.absoluteTolerance = options.absolute_tolerance
+    st.newton.relativeTolerance = options.relative_tolerance
+    st.newton.maxIterations = options.max_iterations
+    ss.linearSolverType = exu.LinearSolverType.EXUdense if len(nodes) < 60 else exu.LinearSolverType.EigenSparse
+
+    what = config.describe(robot.name)
+    try:
+        ok = mbs.SolveStatic(ss)
+    except Exception as exc:  # exu.SolverError and friends
+        raise SolverFailure(f"static solve failed for {what}: {exc}") from exc
+    q = np.asarray(mbs.systemData.GetODE2Coordinates(), dtype=float)
+    if ok is False or not np.all(np.isfinite(q)):
+        raise SolverFailure(f"static solve did not converge for {what}")
+    return _result(config, lay, q, robot, kc)
+
+
+def _result(config: Config, lay: Layout, q: np.ndarray, robot: RobotProperties, kc: float) -> StaticResult:
+    n = len(lay.bodies)
+    q = q.reshape(n, 3)
+    ref = np.array([b.com_m for b in lay.bodies])
+    com = ref + q[:, :2]
+    phi = q[:, 2]
+    c, s = np.cos(phi), np.sin(phi)
+    L = lay.length_m
+    under = np.zeros((n, 2, 2))
+    for i, b in enumerate(lay.bodies):
+        for j, dx in enumerate((-L / 2, L / 2)):
+            lx, lz = dx - b.com_local_m[0], -b.com_local_m[1]
+            under[i, j] = (com[i, 0] + c[i] * lx - s[i] * lz, com[i, 1] + s[i] * lx + c[i] * lz)
+    base_z = np.array([b.z_m for b in lay.bodies])
+    drop = base_z[:, None] - under[:, :, 1]
+    tip = float(drop[lay.front_body, 1])
+    jr = np.array([phi[cp.b] - phi[cp.a] for cp in lay.couplings if cp.role == "front_rear"])
+    reac = []
+    for sp in lay.supports:
+        b = lay.bodies[sp.body]
+        lx = sp.point_m[0] - b.com_m[0]
+        lz = sp.point_m[1] - b.com_m[1]
+        i = sp.body
+        z = com[i, 1] + s[i] * lx + c[i] * lz
+        dz = z - sp.point_m[1]
+        reac.append(-kc * b.count * (dz if config.clamped else min(dz, 0.0)))
+    tf = tipping_factor(lay.bodies, com[:, 0]) if config.phase == "cantilever" else math.inf
+    result = StaticResult(config, lay, com, phi, under, tip, float(drop.max()), jr, np.array(reac), tf,
+                          config.structure.robots(config.rows))
+    if not (math.isfinite(result.tip_deflection_m) and np.all(np.isfinite(under))):
+        raise InputError(f"non-finite result for {config.describe(robot.name)}")
+    return result

@@ -1,0 +1,242 @@
+"""Structure descriptions and their planar layout (SI units, no exudyn).
+
+A :class:`Structure` is what the swarm builds: ``lines`` robots side by side,
+``layers`` robots high, every row the same cross-section, joints of
+neighbouring lines ``aligned`` or ``staggered`` by half a robot (the CuBot's
+side rail slides, so a half offset is possible; the top twist-lock has one
+centred key, so layers always stack aligned).
+
+:func:`layout` turns a structure, a robot and a position over a void into the
+planar bodies, couplings and ledge supports the model solves.
+
+Why a planar (x-z) model is exact here: every robot, coupling and load
+(gravity) is symmetric about the structure's vertical mid-plane along the
+void, so there is no out-of-plane displacement, twist or roll to first and
+to any order. Robots that sit at the same x in the same layer move
+identically (same load per coupling: side-by-side aligned lines deflect like
+one line) and are merged into one planar body carrying their summed mass,
+inertia and coupling stiffness. Staggered lines are two planar bodies per row
+(even lines at offset 0, odd lines shifted half a pitch back), coupled through
+the side rails where they overlap. What a planar model cannot show (lateral
+tipping, twist under an off-centre robot) is outside this package's claims.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from cubot_cad.properties import RobotProperties
+
+from .connectors import ConnectorSet, Joint
+from .errors import InputError
+from .limits import KINDS, MAX_ARCH_HIGH, MAX_ARCH_WIDE
+
+ARRANGEMENTS = ("aligned", "staggered")
+PHASES = ("cantilever", "bridged")
+GRAVITY = 9.81
+
+
+@dataclass(frozen=True)
+class Structure:
+    """``lines`` side by side (1..8) x ``layers`` high (1..4); ``arrangement`` of the line joints."""
+
+    kind: str
+    lines: int = 1
+    layers: int = 1
+    arrangement: str = "aligned"
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise InputError(f"structure kind {self.kind!r} is not one of {', '.join(KINDS)}")
+        if not (isinstance(self.lines, int) and 1 <= self.lines <= MAX_ARCH_WIDE):
+            raise InputError(f"structure lines={self.lines!r} outside 1..{MAX_ARCH_WIDE} (at most 8 wide)")
+        if not (isinstance(self.layers, int) and 1 <= self.layers <= MAX_ARCH_HIGH):
+            raise InputError(f"structure layers={self.layers!r} outside 1..{MAX_ARCH_HIGH} (at most 4 high)")
+        if self.arrangement not in ARRANGEMENTS:
+            raise InputError(f"arrangement {self.arrangement!r} is not one of {', '.join(ARRANGEMENTS)}")
+        if self.kind == "line" and (self.lines, self.layers) != (1, 1):
+            raise InputError(f"a line structure is 1 x 1, got {self.lines} x {self.layers}")
+        if self.kind == "two_line" and (self.lines, self.layers) != (2, 1):
+            raise InputError(f"a two_line structure is 2 x 1, got {self.lines} x {self.layers}")
+        if self.kind == "arch" and self.layers < 2:
+            raise InputError(f"an arch has at least 2 layers, got {self.layers}")
+
+    @property
+    def name(self) -> str:
+        if self.kind == "line":
+            return "line"
+        tag = "" if self.lines == 1 else f"-{self.arrangement}"
+        if self.kind == "two_line":
+            return f"two_line{tag}"
+        return f"arch-{self.lines}x{self.layers}{tag}"
+
+    @property
+    def parity_counts(self) -> tuple[int, int]:
+        """Robots per row in the planar body groups (offset 0, offset half a pitch)."""
+        if self.arrangement == "staggered" and self.lines > 1:
+            return (self.lines + 1) // 2, self.lines // 2
+        return self.lines, 0
+
+    def robots(self, rows: int) -> int:
+        """Robots in a structure ``rows`` long (offset lines have one robot fewer per line)."""
+        n0, n1 = self.parity_counts
+        return self.layers * (rows * n0 + max(rows - 1, 0) * n1)
+
+    def check_connectors(self, conn: ConnectorSet, robot: str) -> None:
+        if self.lines > 1 and conn.side_rail is None:
+            raise InputError(f"structure {self.name}: robot {robot!r} has no side_rail connector to join lines")
+        if self.layers > 1 and conn.top_twist is None:
+            raise InputError(f"structure {self.name}: robot {robot!r} has no top_twist connector to stack layers")
+
+
+@dataclass(frozen=True)
+class Body:
+    """One planar body: ``count`` robots merged; ``x_m``, ``z_m`` of the footprint centre underside."""
+
+    layer: int
+    parity: int
+    row: int
+    count: int
+    x_m: float
+    z_m: float
+    mass_kg: float
+    inertia_kg_m2: float
+    com_local_m: tuple[float, float]
+
+    @property
+    def com_m(self) -> tuple[float, float]:
+        return self.x_m + self.com_local_m[0], self.z_m + self.com_local_m[1]
+
+
+@dataclass(frozen=True)
+class Coupling:
+    """A joint between bodies ``a`` and ``b`` at global point ``point_m``; ``count`` couplings in parallel."""
+
+    a: int
+    b: int
+    point_m: tuple[float, float]
+    joint: Joint
+    count: int
+    role: str  # "front_rear" | "side_rail" | "top_twist"
+
+
+@dataclass(frozen=True)
+class Support:
+    """A one-sided ledge support under body ``body`` at global point ``point_m`` ("near" or "far" ledge)."""
+
+    body: int
+    point_m: tuple[float, float]
+    ledge: str
+
+
+@dataclass(frozen=True)
+class Layout:
+    bodies: tuple[Body, ...]
+    couplings: tuple[Coupling, ...]
+    supports: tuple[Support, ...]
+    front_body: int
+    rear_body: int
+    length_m: float
+    pitch_m: float
+    void_m: float
+
+
+def layout(structure: Structure, robot: RobotProperties, conn: ConnectorSet, rows: int,
+           rows_over: float, void_widths: float, phase: str = "cantilever") -> Layout:
+    """Place a ``rows``-long structure with its front face ``rows_over`` pitches past the
+    near edge (x = 0) of a void ``void_widths`` robot lengths wide.
+
+    ``phase="cantilever"``: only the near ledge (x <= 0) supports the structure
+    (the front has not reached the far ledge; ``rows_over <= void_widths``);
+    ``"bridged"``: bodies whose centre is beyond the far edge rest on it too.
+    Supports sit under the two bottom corners of every body whose centre is
+    over a ledge, at the corners that are over that ledge.
+    """
+    if not (isinstance(rows, int) and rows >= 1):
+        raise InputError(f"rows must be an integer >= 1, got {rows!r}")
+    if not (math.isfinite(void_widths) and void_widths > 0):
+        raise InputError(f"void width must be > 0 robot widths, got {void_widths!r}")
+    if phase not in PHASES:
+        raise InputError(f"phase {phase!r} is not one of {', '.join(PHASES)}")
+    if not (math.isfinite(rows_over) and 0 <= rows_over <= rows):
+        raise InputError(f"rows_over={rows_over!r} outside 0..{rows}")
+    structure.check_connectors(conn, robot.name)
+    fr = conn.front_rear
+    L, H = robot.length_m, robot.height_m
+    pitch = L + fr.gap_m
+    void = void_widths * pitch
+    if phase == "cantilever" and rows_over > void_widths + 1e-9:
+        raise InputError(f"cantilever with {rows_over} rows over a {void_widths}-wide void: front is past the far ledge")
+    x_front = rows_over * pitch
+    iyy = robot.inertia_kg_m2[1]
+    com_local = (robot.com_m[0], robot.com_m[2])
+    n0, n1 = structure.parity_counts
+
+    bodies: list[Body] = []
+    index: dict[tuple[int, int, int], int] = {}
+    for k in range(structure.layers):
+        for parity, n in ((0, n0), (1, n1)):
+            if n == 0:
+                continue
+            nrows = rows if parity == 0 else rows - 1
+            for j in range(nrows):
+                xc = x_front - pitch * j - L / 2 - parity * pitch / 2
+                index[(k, parity, j)] = len(bodies)
+                bodies.append(Body(k, parity, j, n, xc, k * H, n * robot.mass_kg, n * iyy, com_local))
+
+    couplings: list[Coupling] = []
+    for (k, parity, j), a in index.items():
+        n = n0 if parity == 0 else n1
+        b = index.get((k, parity, j + 1))  # the row behind
+        if b is not None:
+            xj = bodies[a].x_m - L / 2 - fr.gap_m / 2
+            couplings.append(Coupling(b, a, (xj, k * H + fr.height_m), fr, n, "front_rear"))
+        up = index.get((k + 1, parity, j))
+        if up is not None:
+            tw = conn.top_twist
+            couplings.append(Coupling(a, up, (bodies[a].x_m, (k + 1) * H), tw, n, "top_twist"))
+        if parity == 1:
+            rail = conn.side_rail
+            pairs = structure.lines - 1  # neighbouring line pairs, each with a rail
+            for jj in (j, j + 1):  # the offset body overlaps even-line rows j and j + 1
+                c = index[(k, 0, jj)]
+                xo = 0.5 * (bodies[a].x_m + bodies[c].x_m)
+                couplings.append(Coupling(c, a, (xo, k * H + rail.height_m), rail, pairs, "side_rail"))
+
+    supports: list[Support] = []
+    tol = 1e-9
+    for i, bd in enumerate(bodies):
+        if bd.layer != 0:
+            continue
+        corners = (bd.x_m - L / 2, bd.x_m + L / 2)
+        if bd.x_m < 0:
+            for cx in corners:
+                if cx <= tol:
+                    supports.append(Support(i, (cx, 0.0), "near"))
+        elif phase == "bridged" and bd.x_m > void:
+            for cx in corners:
+                if cx >= void - tol:
+                    supports.append(Support(i, (cx, 0.0), "far"))
+    if not any(s.ledge == "near" for s in supports):
+        raise InputError(f"{structure.name}: no row of the {rows}-row structure rests on the near ledge "
+                         f"with {rows_over} rows over the void")
+    front = index[(0, 0, 0)]
+    rear = index[(0, 0, rows - 1)]
+    return Layout(tuple(bodies), tuple(couplings), tuple(supports), front, rear, L, pitch, void)
+
+
+def tipping_factor(bodies: tuple[Body, ...], com_x: np.ndarray, edge_x: float = 0.0) -> float:
+    """Restoring over overturning gravity moment about the near edge ``edge_x`` (>1: stands).
+
+    Bodies with their centre of mass behind the edge restore, those beyond it
+    overturn. With nothing beyond the edge the factor is infinite, returned as
+    ``math.inf`` (tables print it as "-", never NaN).
+    """
+    m = np.array([b.mass_kg for b in bodies])
+    arm = np.asarray(com_x) - edge_x
+    over = float(np.sum(m * np.clip(arm, 0, None)))
+    back = float(np.sum(m * np.clip(-arm, 0, None)))
+    return math.inf if over <= 0 else back / over

@@ -1,0 +1,303 @@
+"""Launch-sequence studies, derived thresholds, minimal counts and the selection table.
+
+Everything here is computed from a robot record and its connectors every
+time; nothing is looked up.
+
+Launch sequence of a structure ``R`` rows long over a void ``w`` robot widths
+wide (all ``R`` rows joined, as when the whole swarm has been recruited):
+cantilever with ``g = 1..w`` rows past the near edge (``R - g`` on the
+ground), then bridged (front on the far ledge, rows split between the
+ledges), then released row by row at the front; the last phase (the rear
+leaving the near ledge, held by the rows on the far ledge) mirrors the
+launch. The largest tip deflection is at ``g = w`` (the front just reaching
+the far ledge) and the smallest tipping factor too.
+
+* Minimal rows ``R_min(w)``: the fewest rows whose solved tipping factor at
+  ``g = w`` exceeds ``required_tipping`` (default 1: the structure stands).
+* Threshold of a structure: the widest ``w`` (from 1 upwards, without gaps)
+  whose tip deflection at ``g = w`` with ``R_min(w)`` rows is <= the climb
+  clearance.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field, replace
+
+from cubot_cad.properties import RobotProperties
+
+from .connectors import ConnectorSet
+from .errors import InputError
+from .limits import StructureLevel, StructureLimits
+from .model import Config, StaticResult, solve
+from .structures import Structure, layout, tipping_factor
+
+MAX_WIDTH = 30
+CLEARANCE_CHOICES = ("wheel", "caster")
+
+
+@dataclass(frozen=True)
+class StudyInputs:
+    """Physical inputs of a study (SI); ``clearance_m``: the step the deflected front can still climb."""
+
+    robot: RobotProperties
+    connectors: ConnectorSet
+    clearance_m: float
+    required_tipping: float = 1.0
+    flexible: bool = False
+    max_width: int = MAX_WIDTH
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.clearance_m) and self.clearance_m > 0):
+            raise InputError(f"clearance must be > 0 mm, got {self.clearance_m * 1e3:g} mm")
+        if not (math.isfinite(self.required_tipping) and self.required_tipping >= 1.0):
+            raise InputError(f"required tipping factor must be >= 1, got {self.required_tipping}")
+        if not (isinstance(self.max_width, int) and 1 <= self.max_width <= 100):
+            raise InputError(f"max width must be an integer in 1..100, got {self.max_width!r}")
+
+    @classmethod
+    def for_robot(cls, robot: RobotProperties, clearance_mm: float | None = None,
+                  stiffness_scale: float = 1.0, backlash_scale: float = 1.0, mass_scale: float = 1.0,
+                  **kw) -> StudyInputs:
+        """Defaults: the robot's own connectors, clearance = its exposed main-wheel height."""
+        for name, v in (("stiffness scale", stiffness_scale), ("mass scale", mass_scale)):
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise InputError(f"{name} must be > 0, got {v!r}")
+        if mass_scale != 1.0:
+            robot = replace(robot, mass_kg=robot.mass_kg * mass_scale,
+                            inertia_kg_m2=tuple(i * mass_scale for i in robot.inertia_kg_m2))
+        conn = ConnectorSet.from_robot(robot).scaled(stiffness_scale, backlash_scale)
+        if clearance_mm is None:
+            clearance_m = robot.wheel_exposed_height_m
+        else:
+            if not (isinstance(clearance_mm, (int, float)) and math.isfinite(clearance_mm) and clearance_mm > 0):
+                raise InputError(f"clearance must be > 0 mm, got {clearance_mm!r}")
+            clearance_m = clearance_mm / 1e3
+        return cls(robot, conn, clearance_m, **kw)
+
+    def provenance(self) -> dict[str, float]:
+        c = self.connectors
+        out = {"mass_kg": self.robot.mass_kg, "length_m": self.robot.length_m, "height_m": self.robot.height_m,
+               "clearance_m": self.clearance_m, "required_tipping": self.required_tipping,
+               "front_rear_nm_per_rad": c.front_rear.rotational_nm_per_rad,
+               "front_rear_backlash_rad": c.front_rear.backlash_rad,
+               "front_rear_axial_n_per_m": c.front_rear.axial_n_per_m}
+        if c.side_rail:
+            out["side_rail_nm_per_rad"] = c.side_rail.rotational_nm_per_rad
+        if c.top_twist:
+            out["top_twist_nm_per_rad"] = c.top_twist.rotational_nm_per_rad
+        return out
+
+
+def candidate_structures(conn: ConnectorSet) -> list[Structure]:
+    """Line; two lines aligned and (sliding rail) staggered; arches 2L wide x L high, L = 2..4."""
+    out = [Structure("line")]
+    if conn.side_rail is not None:
+        out += [Structure("two_line", 2, 1, "aligned"), Structure("two_line", 2, 1, "staggered")]
+        if conn.top_twist is not None:
+            out += [Structure("arch", 2 * k, k, "staggered") for k in (2, 3, 4)]
+    return out
+
+
+def _rigid_tipping(s: Structure, inp: StudyInputs, rows: int, w: int) -> float:
+    lay = layout(s, inp.robot, inp.connectors, rows, w, w)
+    return tipping_factor(lay.bodies, [b.com_m[0] for b in lay.bodies])
+
+
+def min_rows(s: Structure, w: int, inp: StudyInputs) -> tuple[int, StaticResult]:
+    """Fewest rows whose solved tipping factor at the longest cantilever exceeds the requirement."""
+    need = inp.required_tipping * (1 + 1e-6)  # "exceeds": a factor of 1 + rounding is not standing
+    rows = w + 1
+    while _rigid_tipping(s, inp, rows, w) <= need:
+        rows += 1
+    for _ in range(20):
+        res = solve(Config(s, rows, w, w), inp.robot, inp.connectors, inp.flexible)
+        if res.tipping_factor > need:
+            return rows, res
+        rows += 1
+    raise InputError(f"{s.name}: no row count up to {rows} keeps a {w}-wide cantilever standing")
+
+
+@dataclass
+class Curve:
+    """A structure's tip deflection and tipping factor at its longest cantilever, per void width."""
+
+    structure: Structure
+    widths: list[int] = field(default_factory=list)
+    tip_mm: list[float] = field(default_factory=list)
+    tipping: list[float] = field(default_factory=list)
+    rows: list[int] = field(default_factory=list)
+    robots: list[int] = field(default_factory=list)
+    threshold: int = 0
+
+
+def structure_curve(s: Structure, inp: StudyInputs, extra: int = 1, tick: Callable[[], None] | None = None) -> Curve:
+    """Solve w = 1, 2, ... until the tip passes the clearance (plus ``extra`` widths beyond, for plots)."""
+    c = Curve(s)
+    failed_at = None
+    for w in range(1, inp.max_width + 1):
+        rows, res = min_rows(s, w, inp)
+        c.widths.append(w)
+        c.tip_mm.append(res.tip_deflection_mm)
+        c.tipping.append(res.tipping_factor)
+        c.rows.append(rows)
+        c.robots.append(res.robots)
+        if tick:
+            tick()
+        if failed_at is None and res.tip_deflection_m > inp.clearance_m:
+            failed_at = w
+        if failed_at is not None and w >= failed_at + extra:
+            break
+    c.threshold = (failed_at - 1) if failed_at is not None else c.widths[-1]
+    return c
+
+
+@dataclass
+class Derivation:
+    inputs: StudyInputs
+    curves: list[Curve]
+    levels: list[tuple[Structure, int, int]]  # (structure, first width, last width)
+
+    def curve(self, name: str) -> Curve:
+        return next(c for c in self.curves if c.structure.name == name)
+
+    def thresholds(self) -> dict:
+        """Each kind's own widest crossing: ``line``, best ``two_line``, first ``arch``, wider ``arch_levels``."""
+        by = {c.structure.name: c.threshold for c in self.curves}
+        two = [c.threshold for c in self.curves if c.structure.kind == "two_line"]
+        arches = [c.threshold for c in self.curves if c.structure.kind == "arch"]
+        return {"line": by.get("line", 0), "two_line": max(two, default=0),
+                "arch": arches[0] if arches else 0, "arch_levels": arches[1:],
+                "per_structure": by}
+
+    @property
+    def max_span(self) -> int:
+        return self.levels[-1][2] if self.levels else 0
+
+
+def derive(inp: StudyInputs, progress: Callable[[Iterable, str, int], Iterable] | None = None,
+           extra: int = 1) -> Derivation:
+    """Curves of all candidate structures and the levels that tile 1..max span.
+
+    A structure gets a band only if it crosses wider than every cheaper one
+    before it (aligned two-line lines add no bending stiffness, so they get
+    none when they equal the line)."""
+    structs = candidate_structures(inp.connectors)
+    for s in structs:
+        s.check_connectors(inp.connectors, inp.robot.name)
+    it = structs if progress is None else progress(structs, "fem structures", len(structs))
+    curves = [structure_curve(s, inp, extra) for s in it]
+    levels = []
+    covered = 0
+    for c in curves:
+        if c.threshold > covered:
+            levels.append((c.structure, covered + 1, c.threshold))
+            covered = c.threshold
+    return Derivation(inp, curves, levels)
+
+
+def limits_from(d: Derivation, source: str = "derived") -> StructureLimits:
+    """The `StructureLimits` record of a derivation (levels tile 1..max span without gaps)."""
+    inp = d.inputs
+    if not d.levels:
+        raise InputError(
+            f"no structure keeps the tip deflection of even a 1-wide void within the "
+            f"{inp.clearance_m * 1e3:g} mm clearance for robot {inp.robot.name!r}")
+    lv = []
+    for s, lo, hi in d.levels:
+        c = d.curve(s.name)
+        idx = [c.widths.index(w) for w in range(lo, hi + 1)]
+        margins = [c.rows[i] - 2 * c.widths[i] for i in idx]
+        lv.append(StructureLevel(
+            name=s.name, kind=s.kind, lines=s.lines, layers=s.layers, min_span_widths=lo,
+            max_span_widths=hi, ground_ratio=1.0, ground_margin=max(margins),
+            min_robots=tuple(c.robots[i] for i in idx),
+            max_deflection_mm=round(c.tip_mm[idx[-1]], 3), min_tipping_factor=round(min(c.tipping[i] for i in idx), 4)))
+    th = d.thresholds()
+    skipped = [c.structure.name for c in d.curves if all(c.structure != s for s, _, _ in d.levels)]
+    notes = (f"Derived by structure_fem (exudyn planar multibody, penalty couplings with dead band) for "
+             f"{inp.robot.name}: clearance {inp.clearance_m * 1e3:g} mm, tipping factor > {inp.required_tipping:g}. "
+             f"Own thresholds per structure: {th['per_structure']}. "
+             f"Rows on the initial ground >= rows over the void + margin (n_p = n_g + margin) replaces the thesis's "
+             f"n_p = 2 n_g. Widest void crossed: {d.max_span} robot widths"
+             + (" (< 30: no structure up to 8 wide x 4 high keeps the tip within the clearance beyond it)"
+                if d.max_span < MAX_WIDTH else "")
+             + (f". No band (adds nothing over a cheaper structure): {', '.join(skipped)}" if skipped else "")
+             + ".")
+    return StructureLimits(source=source, robot=inp.robot.name, clearance_mm=round(inp.clearance_m * 1e3, 6),
+                           levels=tuple(lv), notes=notes, inputs=inp.provenance())
+
+
+# --------------------------------------------------------------------------- the selection table
+
+def thesis_robots(w: int) -> int:
+    from .limits import thesis_limits
+    return thesis_limits().min_robots(w)
+
+
+@dataclass(frozen=True)
+class TableRow:
+    width: int
+    band: str
+    structure: str
+    lines: int
+    layers: int
+    min_robots: int | None
+    thesis_robots: int
+    launch_initial: int | None
+    launch_over: int | None
+    launch_target: int | None
+    bridged_initial: int | None
+    bridged_over: int | None
+    bridged_target: int | None
+    max_deflection_mm: float | None
+    bridged_deflection_mm: float | None
+    margin_mm: float | None
+    min_tipping_factor: float | None
+    thesis_count_tipping: float | None
+
+
+def _split(s: Structure, rows_initial: int, rows_over: int, rows_target: int) -> tuple[int, int, int]:
+    """Robots on the initial ground / over the void / on the target ground (offset lines counted where their centres are)."""
+    per = s.layers * sum(s.parity_counts)
+    return rows_initial * per, rows_over * per, rows_target * per
+
+
+def table(d: Derivation, progress: Callable[[Iterable, str, int], Iterable] | None = None,
+          step_launch: bool = True) -> list[TableRow]:
+    """The selection table for w = 1..max width, stepping through each launch sequence."""
+    inp = d.inputs
+    rows_out = []
+    widths = range(1, inp.max_width + 1)
+    it = widths if progress is None else progress(widths, "fem table", len(widths))
+    for w in it:
+        trob = thesis_robots(w) if w <= 30 else 0
+        band = next(((s, lo, hi) for s, lo, hi in d.levels if lo <= w <= hi), None)
+        if band is None:
+            rows_out.append(TableRow(w, "beyond", "none", 0, 0, None, trob, *([None] * 6), None, None, None,
+                                     None, None))
+            continue
+        s, lo, hi = band
+        c = d.curve(s.name)
+        i = c.widths.index(w)
+        R = c.rows[i]
+        tips, tfs = [c.tip_mm[i]], [c.tipping[i]]
+        if step_launch:
+            for g in range(1, w):
+                res = solve(Config(s, R, g, w), inp.robot, inp.connectors, inp.flexible)
+                tips.append(res.tip_deflection_mm)
+                tfs.append(res.tipping_factor)
+        n_o = (R - w) // 2
+        n_p = R - w - n_o
+        bridged = solve(Config(s, R, w + n_o, w, "bridged"), inp.robot, inp.connectors, inp.flexible)
+        # Thesis count on this structure: N = 3 n_g rows (n_p = 2 n_g at the longest cantilever).
+        t_tip = _rigid_tipping(s, inp, 3 * w, w)
+        li, lo_, lt = _split(s, R - w, w, 0)
+        bi, bo, bt = _split(s, n_p, w, n_o)
+        maxdef = max(tips)
+        rows_out.append(TableRow(
+            w, f"{lo}-{hi}", s.name, s.lines, s.layers, c.robots[i], trob, li, lo_, lt, bi, bo, bt,
+            round(maxdef, 3), round(bridged.max_deflection_m * 1e3, 3), round(inp.clearance_m * 1e3 - maxdef, 3),
+            round(min(tfs), 4), round(t_tip, 4)))
+    return rows_out
