@@ -1,22 +1,256 @@
-"""`voidcross sweep`: Monte-Carlo sweeps into SQLite (local or Dask).
+"""`voidcross sweep`: resumable Monte-Carlo sweeps into SQLite, on local processes or Dask.
 
-Placeholder until issue #7 lands: the parser exists so the CLI contract
-holds; running it says honestly that the stage is not built.
+Every run is stored in its own transaction as soon as it completes, keyed by
+(preset, parameter hash, seed): kill the sweep at any moment and re-run the
+same command with ``--resume`` to complete it. See docs/experiments.md.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import sys
+import time
+from pathlib import Path
 
-NOT_BUILT = "`voidcross sweep` is not built yet (issue #7)"
+from ..output import emit, progress
+
+EPILOG = """examples:
+  voidcross sweep --preset case-d --robots 3-18,20,25,30,40,50 --void-width 1-5 --runs 30 \\
+                  --db results/case-d.sqlite
+  voidcross sweep ... --db results/case-d.sqlite --resume        complete an interrupted sweep
+  voidcross sweep ... --limits thesis                            the thesis's 5/10/15 limits
+  voidcross sweep ... --executor dask --address tcp://10.0.0.5:8786
+  voidcross sweep export --db results/case-d.sqlite --to runs.csv
+  voidcross sweep status --db results/case-d.sqlite
+  voidcross sweep bench --runs 8 --json
+
+On an existing --db the same sweep (same preset, ranges, runs, seeds, limits) is
+refused unless --resume is given; a different sweep is added beside it, and runs
+already stored under the same (preset, parameter hash, seed) are never repeated.
+A run that raises is stored with its traceback (status 'error'); --retry-errors
+re-runs those on --resume.
+"""
+
+DEFAULT_DB = "results/sweep.sqlite"
+
+
+def _overrides(items: list[str] | None) -> dict:
+    from swarm_sim.errors import InputError
+
+    out: dict = {}
+    for item in items or []:
+        k, sep, v = item.partition("=")
+        if not sep or not k.strip():
+            raise InputError(f"--set {item!r}: expected KEY=VALUE")
+        try:
+            out[k.strip()] = json.loads(v)
+        except json.JSONDecodeError:
+            out[k.strip()] = v
+    return out
+
+
+def build_spec(args):
+    from swarm_sim.errors import InputError
+    from swarm_sim.sweeps import SweepSpec, parse_int_range
+
+    for opt in ("preset", "robots", "void_width"):
+        if getattr(args, opt) is None:
+            raise InputError(f"--{opt.replace('_', '-')} is required to run a sweep (see voidcross sweep --help)")
+    robots = parse_int_range(args.robots, "--robots")
+    widths = parse_int_range(args.void_width, "--void-width")
+    return SweepSpec(args.preset, robots, widths, runs=args.runs, limits=args.limits, seed0=args.seed,
+                     max_time_s=args.max_time_s, overrides=_overrides(args.set))
+
+
+def execute_plan(plan, executor, workers, address, desc: str):
+    """Run a prepared plan with a progress bar; returns the summary (interrupted=True on Ctrl-C)."""
+    from swarm_sim.sweeps.executors import make_executor
+
+    t0 = time.perf_counter()
+    try:
+        if plan.todo:
+            with make_executor(executor, workers=workers, address=address) as ex:
+                for _ in progress(plan.execute(ex), desc=desc, total=len(plan.todo)):
+                    pass
+    except KeyboardInterrupt:
+        plan.summary.interrupted = True
+    finally:
+        plan.summary.wall_s = time.perf_counter() - t0
+        plan.close()
+    return plan.summary
 
 
 def run(args: argparse.Namespace) -> int:
-    print(f"error: {NOT_BUILT}", file=sys.stderr)
-    return 1
+    from swarm_sim.sweeps import prepare_sweep
+
+    spec = build_spec(args)
+    plan = prepare_sweep(spec, args.db, resume=args.resume, retry_errors=args.retry_errors,
+                         run_fn=args.run_fn)
+    s = execute_plan(plan, args.executor, args.workers, args.address,
+                     desc=f"sweep {spec.preset} ({plan.summary.already_stored} stored)")
+    stored = s.already_stored + s.ok + s.errors
+    human = (f"sweep {s.sweep_id} -> {s.db}: {stored}/{s.planned} runs stored "
+             f"(this time {s.ran} in {s.wall_s:.1f} s on {s.executor or 'nothing'}"
+             f"{f' x{s.workers}' if s.workers else ''}: {s.ok} ok, {s.successes} crossed, {s.errors} raised)")
+    if s.errors:
+        human += "; runs that raised keep their traceback (voidcross sweep status --db ...)"
+    if s.interrupted:
+        print(f"error: interrupted: {stored}/{s.planned} runs are safely stored; re-run the same command "
+              "with --resume to complete the sweep", file=sys.stderr)
+        emit(args, s.to_dict(), human)
+        return 130
+    emit(args, s.to_dict(), human)
+    return 0
+
+
+def run_export(args: argparse.Namespace) -> int:
+    from swarm_sim.sweeps.export import export_db
+
+    res = export_db(args.db, args.to)
+    emit(args, res, f"exported {res['rows']} runs from {args.db} to {res['path']}")
+    return 0
+
+
+def run_status(args: argparse.Namespace) -> int:
+    from swarm_sim.sweeps import ResultStore
+
+    with ResultStore.open_readonly(args.db) as store:
+        counts = store.count()
+        sweeps = [s.__dict__ for s in store.sweeps()]
+        errors = [
+            {k: r[k] for k in ("preset", "robots", "void_width", "seed", "error_type", "error")}
+            for r in store.iter_runs("WHERE status='error'")
+        ]
+        presets = store.con.execute(
+            "SELECT preset, COUNT(*), SUM(success), SUM(robots_lost) FROM runs WHERE status='ok' "
+            "GROUP BY preset").fetchall()
+    lines = [f"{args.db}: {counts['ok']} runs ok, {counts['error']} raised"]
+    for p, n, succ, lost in presets:
+        lines.append(f"  {p}: {n} runs, {succ or 0} crossed, robots lost {lost or 0}")
+    for s in sweeps:
+        lines.append(f"  sweep {s['sweep_id']} ({s['created_utc']}): {s['runs_planned']} planned, "
+                     f"{json.dumps(s['spec'], sort_keys=True)}")
+    for e in errors[:5]:
+        last = (e["error"] or "").strip().splitlines()[-1:] or [""]
+        lines.append(f"  raised: {e['preset']} N={e['robots']} w={e['void_width']} seed={e['seed']}: {last[0]}")
+    if len(errors) > 5:
+        lines.append(f"  ... and {len(errors) - 5} more (--json lists all)")
+    emit(args, {"db": args.db, "counts": counts, "sweeps": sweeps, "errors": errors}, "\n".join(lines))
+    return 0
+
+
+def run_bench(args: argparse.Namespace) -> int:
+    from swarm_sim.sweeps.bench import bench
+
+    echo = (lambda s: None) if args.json else (lambda s: print(s, file=sys.stderr))
+    res = bench(args.preset, args.robots, args.void_width, runs=args.runs, limits=args.limits,
+                run_fn=args.run_fn, max_time_s=args.max_time_s, dask=not args.no_dask, echo=echo)
+    lines = [f"sweep throughput, {res['preset']}, {res['robots']} robots, {res['void_width']}-wide void, "
+             f"{res['runs']} runs per configuration:"]
+    for tag, c in res["configs"].items():
+        lines.append(f"  {tag:8s} {c['runs_per_min']:8.1f} runs/min  ({c['wall_s_per_run']:.3f} s/run, "
+                     f"executor overhead {c['overhead_ms_per_run']:.2f} ms/run, start-up {c['startup_s']:.1f} s)")
+    if "dask_overhead_vs_local_2" in res:
+        lines.append(f"  Dask overhead per run vs local (2 workers): {100 * res['dask_overhead_vs_local_2']:+.1f} %")
+    lines.append(f"  local speed-up 2 vs 1 workers: {res['speedup_2_vs_1_local']:.2f}x")
+    emit(args, res, "\n".join(lines))
+    return 0
+
+
+def _positive_int(text: str) -> int:
+    from swarm_sim.errors import InputError
+
+    try:
+        v = int(text)
+    except ValueError:
+        raise InputError(f"{text!r}: expected an integer") from None
+    if v < 1:
+        raise InputError(f"{text!r}: must be >= 1")
+    return v
 
 
 def register(sub, common) -> None:
-    p = sub.add_parser("sweep", parents=[common], help="Monte-Carlo sweeps into SQLite (local or Dask) (not built yet)")
+    fmt = argparse.RawDescriptionHelpFormatter
+    p = sub.add_parser("sweep", parents=[common], formatter_class=fmt, epilog=EPILOG,
+                       help="resumable Monte-Carlo sweeps into SQLite (local processes or Dask)",
+                       description="Run RUNS seeded simulations for every swarm size x void width, storing "
+                                   "each as it completes. Actions: (none) run a sweep; export; status; bench.")
+    p.add_argument("--preset", help="scenario preset, e.g. case-c, case-d, large-void")
+    p.add_argument("--robots", help="swarm sizes, e.g. 3-18,20,25,30,40,50")
+    p.add_argument("--void-width", dest="void_width", help="void widths in robot widths, e.g. 1-5")
+    p.add_argument("--runs", type=int, default=30, help="seeded runs per point (default 30)")
+    p.add_argument("--seed", type=int, default=0, help="first seed; run i uses seed+i (default 0)")
+    p.add_argument("--db", default=DEFAULT_DB, help=f"results database (default {DEFAULT_DB})")
+    p.add_argument("--limits", default="derived", help="derived (default), thesis, or a limits.json path")
+    p.add_argument("--executor", choices=("local", "dask"), default="local")
+    p.add_argument("--address", help="Dask scheduler, e.g. tcp://HOST:8786 (default: a local cluster)")
+    p.add_argument("--workers", type=_positive_int, help="worker processes (default: CPU count)")
+    p.add_argument("--resume", action="store_true", help="complete the sweep already in --db")
+    p.add_argument("--retry-errors", action="store_true", help="with --resume: re-run runs that raised")
+    p.add_argument("--max-time-s", dest="max_time_s", type=float, help="cap on simulated seconds per run")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="scenario override passed to the simulator (repeatable; VALUE parsed as JSON)")
+    p.add_argument("--run-fn", dest="run_fn", default=None,
+                   help="advanced: run function 'module:function' (default: the simulator)")
     p.set_defaults(func=run)
+    actions = p.add_subparsers(dest="sweep_action", metavar="ACTION", parser_class=type(p))
+
+    e = actions.add_parser("export", parents=[common], formatter_class=fmt,
+                           help="write one row per run to CSV or Parquet",
+                           epilog="examples:\n  voidcross sweep export --db results/case-d.sqlite --to runs.csv\n"
+                                  "  voidcross sweep export --db results/case-d.sqlite --to runs.parquet")
+    e.add_argument("--db", dest="db", required=True, help="results database")
+    e.add_argument("--to", required=True, help="output file: .csv or .parquet (needs pyarrow)")
+    e.set_defaults(func=run_export)
+
+    s = actions.add_parser("status", parents=[common], formatter_class=fmt,
+                           help="what a results database holds (sweeps, counts, runs that raised)",
+                           epilog="examples:\n  voidcross sweep status --db results/case-d.sqlite --json")
+    s.add_argument("--db", dest="db", required=True, help="results database")
+    s.set_defaults(func=run_status)
+
+    b = actions.add_parser("bench", parents=[common], formatter_class=fmt,
+                           help="throughput: runs/min on 1 and 2 local workers and 2 Dask workers",
+                           epilog="examples:\n  voidcross sweep bench\n  voidcross sweep bench --runs 16 --json")
+    b.add_argument("--preset", dest="preset", default="case-d")
+    b.add_argument("--robots", dest="robots", type=int, default=9)
+    b.add_argument("--void-width", dest="void_width", type=int, default=3)
+    b.add_argument("--runs", dest="runs", type=int, default=8, help="timed runs per configuration (default 8)")
+    b.add_argument("--limits", dest="limits", default="derived")
+    b.add_argument("--max-time-s", dest="max_time_s", type=float, default=None)
+    b.add_argument("--run-fn", dest="run_fn", default="swarm_sim.sweeps.sweep:simulate")
+    b.add_argument("--no-dask", dest="no_dask", action="store_true", help="skip the Dask configuration")
+    b.set_defaults(func=run_bench)
+
+
+# --------------------------------------------------------------------------- pipeline
+
+#: The pipeline's small default sweep: case D, the boundary N = 3w - 1 (retreat) and 3w (cross)
+#: for void widths 1 and 2, a few seeds each.
+PIPELINE_POINTS = ((2, 1), (3, 1), (5, 2), (6, 2))
+PIPELINE_RUNS = 3
+
+
+def pipeline_stage(out: Path, ctx: dict) -> str:
+    from swarm_sim.sweeps import SweepSpec, prepare_sweep
+
+    try:
+        import swarm_sim.runner  # noqa: F401
+    except ImportError as exc:
+        from ..pipeline import StageUnavailable
+
+        raise StageUnavailable(f"swarm_sim.runner is not available ({exc})") from None
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    limits = str(ctx.get("limits") or "derived")
+    spec = SweepSpec("case-d", points=PIPELINE_POINTS, runs=PIPELINE_RUNS, limits=limits)
+    db = out / "case-d.sqlite"
+    plan = prepare_sweep(spec, db, resume=True)
+    s = execute_plan(plan, "local", None, None, desc="pipeline sweep")
+    if s.interrupted:
+        raise KeyboardInterrupt
+    ctx["db"] = str(db)
+    stored = s.already_stored + s.ok + s.errors
+    return (f"{stored}/{s.planned} case-d runs (N = 3w-1 and 3w, w = 1, 2; limits {limits}) in {db}: "
+            f"{s.ok} new ok, {s.errors} raised")

@@ -1,0 +1,75 @@
+"""Sweep throughput benchmark: runs per minute on 1 and 2 local workers and 2 Dask workers.
+
+Each configuration gets a fresh executor and a temporary database; a warm-up
+batch (one run per worker, other seeds) is run first so process start-up and
+imports are not counted; then ``runs`` runs are timed end to end including
+the SQLite writes. The Dask overhead per run is reported relative to the local
+pool with the same number of workers, measured in the same invocation.
+A second pass with the zero-work synthetic run function isolates the pure
+per-run overhead of each executor (milliseconds per run).
+"""
+
+from __future__ import annotations
+
+import tempfile
+import time
+from dataclasses import replace
+from pathlib import Path
+
+from .executors import DaskExecutor, LocalExecutor
+from .sweep import DEFAULT_RUN_FN, SweepSpec, prepare_sweep
+
+SYNTHETIC = "swarm_sim.sweeps.synthetic:synthetic_run"
+
+
+def _timed(spec: SweepSpec, executor, run_fn, tmp: Path, tag: str) -> float:
+    warm = replace(spec, runs=max(1, executor.workers), seed0=spec.seed0 + 10_000)
+    plan = prepare_sweep(warm, tmp / f"{tag}-warm.sqlite", run_fn=run_fn)
+    for _ in plan.execute(executor):
+        pass
+    plan.close()
+    plan = prepare_sweep(spec, tmp / f"{tag}.sqlite", run_fn=run_fn)
+    t0 = time.perf_counter()
+    n = sum(1 for _ in plan.execute(executor))
+    wall = time.perf_counter() - t0
+    errors = plan.summary.errors
+    plan.close()
+    if errors:
+        raise RuntimeError(f"benchmark {tag}: {errors} of {n} runs raised (see the database)")
+    return wall
+
+
+def bench(preset: str = "case-d", robots: int = 9, void_width: int = 3, runs: int = 8,
+          limits: str = "derived", run_fn: str = DEFAULT_RUN_FN, max_time_s: float | None = None,
+          overhead_runs: int = 200, dask: bool = True, echo=lambda s: None) -> dict:
+    spec = SweepSpec(preset, (robots,), (void_width,), runs=runs, limits=limits, max_time_s=max_time_s)
+    synth = SweepSpec(preset, (robots,), (void_width,), runs=overhead_runs, limits=limits)
+    configs = [("local", 1), ("local", 2)] + ([("dask", 2)] if dask else [])
+    out: dict = {"preset": preset, "robots": robots, "void_width": void_width, "runs": runs,
+                 "limits": limits, "run_fn": run_fn, "configs": {}}
+    with tempfile.TemporaryDirectory(prefix="voidcross-bench-") as d:
+        tmp = Path(d)
+        for kind, workers in configs:
+            tag = f"{kind}-{workers}"
+            echo(f"bench: {tag} ...")
+            ex = LocalExecutor(workers) if kind == "local" else DaskExecutor(workers=workers)
+            t_start = time.perf_counter()
+            with ex:
+                startup = time.perf_counter() - t_start
+                wall = _timed(spec, ex, run_fn, tmp, tag)
+                synth_wall = _timed(synth, ex, SYNTHETIC, tmp, tag + "-synthetic")
+            out["configs"][tag] = {
+                "executor": kind, "workers": workers, "wall_s": wall,
+                "runs_per_min": 60.0 * runs / wall, "wall_s_per_run": wall / runs,
+                "startup_s": startup, "overhead_ms_per_run": 1000.0 * synth_wall / overhead_runs,
+            }
+            echo(f"bench: {tag}: {60.0 * runs / wall:.1f} runs/min, "
+                 f"{1000.0 * synth_wall / overhead_runs:.2f} ms overhead per run")
+    c = out["configs"]
+    if "dask-2" in c:
+        loc, dsk = c["local-2"]["wall_s_per_run"], c["dask-2"]["wall_s_per_run"]
+        out["dask_overhead_vs_local_2"] = (dsk - loc) / loc
+        out["dask_extra_ms_per_run_synthetic"] = (c["dask-2"]["overhead_ms_per_run"]
+                                                  - c["local-2"]["overhead_ms_per_run"])
+    out["speedup_2_vs_1_local"] = c["local-1"]["wall_s"] / c["local-2"]["wall_s"]
+    return out
