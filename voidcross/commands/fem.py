@@ -1,22 +1,231 @@
 """`voidcross fem`: structure_fem: deflection studies, derived thresholds, selection table.
 
-Placeholder until issue #4 lands: the parser exists so the CLI contract
-holds; running it says honestly that the stage is not built.
+Sub-commands: ``table`` (selection table, limits.json), ``study`` (plots,
+sensitivity), ``calibrate`` (test-platform bolt fit), ``solve`` (one
+configuration), ``bench`` (timings). exudyn is imported only when a
+sub-command runs.
 """
 
 from __future__ import annotations
 
 import argparse
-import sys
+import time
+from pathlib import Path
 
-NOT_BUILT = "`voidcross fem` is not built yet (issue #4)"
+from voidcross.output import emit, out_dir, progress
+
+EPILOG = """examples:
+  voidcross fem table                          derived thresholds + table into results/fem
+  voidcross fem table --json                   thresholds beside the thesis's 5/10/15/20/25/30
+  voidcross fem table --caster                 strict clearance: the casters' exposed height
+  voidcross fem table --clearance-mm 10 --properties exports/robot_properties.json --out /tmp/fem
+  voidcross fem study --out results/fem-study  deflection plots and sensitivity
+  voidcross fem calibrate --json               fit the test-platform bolt to the thesis's 5 mm
+  voidcross fem solve --structure line --rows 9 --over 4 --void 4
+  voidcross fem bench                          time the whole table and one 15-robot solve
+"""
 
 
-def run(args: argparse.Namespace) -> int:
-    print(f"error: {NOT_BUILT}", file=sys.stderr)
-    return 1
+def _add_inputs(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group("inputs")
+    g.add_argument("--properties", metavar="JSON", default=None,
+                   help="robot_properties.json (default: the packaged one, or the cad stage's)")
+    g.add_argument("--robot", default="cubot", help="robot model in the properties file (default cubot)")
+    g.add_argument("--clearance-mm", type=float, default=None, metavar="MM",
+                   help="climb clearance (default: the robot's exposed main-wheel height, thesis 15 mm)")
+    g.add_argument("--caster", action="store_true",
+                   help="strict alternative: clearance = exposed caster height (thesis 3.3 mm)")
+    g.add_argument("--connectors", choices=("properties", "calibrated"), default="properties",
+                   help="robot connector values: its own record (default) or scaled by the platform calibration")
+    g.add_argument("--stiffness-scale", type=float, default=1.0, help="multiply every coupling stiffness")
+    g.add_argument("--backlash-scale", type=float, default=1.0, help="multiply every coupling backlash")
+    g.add_argument("--mass-scale", type=float, default=1.0, help="multiply the robot's mass and inertia")
+    g.add_argument("--tipping", type=float, default=1.0, metavar="F",
+                   help="required tipping safety factor (> F at the longest cantilever; default 1)")
+    g.add_argument("--flexible", action="store_true", help="add the robots' own bending compliance (E of the material)")
+    g.add_argument("--calibration-backlash", type=float, default=None, metavar="RAD",
+                   help="backlash of the platform bolt for the calibration fit (default 0: stiffness only)")
+
+
+def _opts(args):
+    from structure_fem.runs import RunOptions
+
+    return RunOptions(properties=args.properties, robot=args.robot, clearance_mm=args.clearance_mm,
+                      caster=args.caster, connectors=args.connectors, stiffness_scale=args.stiffness_scale,
+                      backlash_scale=args.backlash_scale, mass_scale=args.mass_scale, required_tipping=args.tipping,
+                      flexible=args.flexible, calibration_backlash=args.calibration_backlash)
+
+
+def _bar(iterable, desc, total):
+    return progress(iterable, desc, total)
+
+
+def run_table(args) -> int:
+    from structure_fem.runs import run_table as _run
+
+    res = _run(out_dir(args.out), _opts(args), docs_dir=args.docs, progress=_bar)
+    th, tt = res["thresholds"], res["thesis_thresholds"]
+    human = (f"derived thresholds (robot widths, clearance {res['clearance_mm']:g} mm): line {th['line']}, "
+             f"two_line {th['two_line']}, arch {th['arch']}, arch levels {th['arch_levels']}; "
+             f"widest void {res['max_span_widths']}\n"
+             f"thesis thresholds: line {tt['line']}, two_line {tt['two_line']}, arch {tt['arch']}, "
+             f"arch levels {tt['arch_levels']}\n"
+             f"calibrated platform bolt: {res['calibration']['bolt_stiffness_nm_per_rad']:.4g} N m/rad at "
+             f"{res['calibration']['bolt_backlash_rad']:g} rad backlash\n"
+             + "\n".join(f"  {k}: {v}" for k, v in res["files"].items()))
+    if not args.full_json:
+        res.pop("table", None)
+    emit(args, res, human)
+    return 0
+
+
+def run_study(args) -> int:
+    from structure_fem.runs import run_study as _run
+
+    res = _run(out_dir(args.out), _opts(args), progress=_bar)
+    th = res["thresholds"]
+    human = (f"thresholds: line {th['line']}, two_line {th['two_line']}, arch {th['arch']}, "
+             f"arch levels {th['arch_levels']} (clearance {res['clearance_mm']:g} mm)\n"
+             + "\n".join(f"  {k}: {v}" for k, v in res["files"].items()))
+    emit(args, res, human)
+    return 0
+
+
+def run_calibrate(args) -> int:
+    from structure_fem.calibration import calibrate
+    from structure_fem.runs import load_file
+
+    cal = calibrate(load_file(_opts(args)), args.calibration_backlash).to_dict()
+    human = (f"platform bolt: {cal['bolt_stiffness_nm_per_rad']:.4g} N m/rad at {cal['bolt_backlash_rad']:g} rad "
+             f"backlash (record's estimate {cal['bolt_stiffness_estimate_nm_per_rad']:g}); predicted tips mm "
+             f"{cal['predicted_tip_mm']}\nfamily (backlash rad -> stiffness, tips 3/4/5 mm):\n"
+             + "\n".join(f"  {f['backlash_rad']:.4g} -> {f['stiffness_nm_per_rad']:.4g}: "
+                         f"{f['tip3_mm']:.2f} / {f['tip4_mm']:.2f} / {f['tip5_mm']:.2f}" for f in cal["family"]))
+    emit(args, cal, human)
+    return 0
+
+
+def _structure(args):
+    from structure_fem.structures import Structure
+
+    kind = args.structure
+    if kind == "line":
+        return Structure("line")
+    if kind == "two_line":
+        return Structure("two_line", 2, 1, args.arrangement)
+    return Structure("arch", args.lines, args.layers, args.arrangement)
+
+
+def run_solve(args) -> int:
+    from structure_fem.model import Config, solve
+    from structure_fem.runs import make_inputs
+
+    inp, _ = make_inputs(_opts(args))
+    s = _structure(args)
+    res = solve(Config(s, args.rows, args.over, args.void, args.phase), inp.robot, inp.connectors, inp.flexible)
+    payload = {"structure": s.name, "robots": res.robots, "tip_deflection_mm": res.tip_deflection_mm,
+               "max_deflection_mm": res.max_deflection_m * 1e3,
+               "tipping_factor": res.tipping_factor if res.tipping_factor != float("inf") else None,
+               "joint_rotations_rad": res.joint_rotation_rad.tolist(),
+               "support_reactions_n": res.reactions_n.tolist(), "weight_n": res.total_weight_n}
+    if args.plot:
+        from structure_fem.plots import side_view
+
+        payload["plot"] = str(side_view(res, Path(args.plot), inp.robot.height_m))
+    tf = payload["tipping_factor"]
+    human = (f"{res.config.describe(inp.robot.name)}: {res.robots} robots, tip {res.tip_deflection_mm:.3f} mm, "
+             f"tipping factor {'-' if tf is None else f'{tf:.3f}'}, reactions {res.reactions_n.sum():.3f} N "
+             f"of {res.total_weight_n:.3f} N weight")
+    emit(args, payload, human)
+    return 0
+
+
+def run_bench(args) -> int:
+    from cubot_cad.properties import default_properties
+    from structure_fem.model import Config, solve
+    from structure_fem.runs import RunOptions, run_table
+    from structure_fem.structures import Structure
+    from structure_fem.study import StudyInputs
+
+    robot = default_properties().get("cubot")
+    inp = StudyInputs.for_robot(robot)
+    cfg = Config(Structure("line"), 15, 5, 5)
+    solve(cfg, robot, inp.connectors)  # warm-up (exudyn import)
+    n = 20
+    t0 = time.perf_counter()
+    for _ in range(n):
+        solve(cfg, robot, inp.connectors)
+    one = (time.perf_counter() - t0) / n
+    t0 = time.perf_counter()
+    run_table(Path(args.out), RunOptions(), alternative=False, plots=False)
+    whole = time.perf_counter() - t0
+    payload = {"line_15_robots_solve_s": one, "line_15_goal_s": 0.2, "table_s": whole, "table_goal_s": 60.0,
+               "line_15_ratio_to_goal": one / 0.2, "table_ratio_to_goal": whole / 60.0}
+    emit(args, payload, f"one 15-robot line solve: {one * 1e3:.1f} ms (goal 200 ms, ratio {one / 0.2:.3f})\n"
+                        f"whole table w=1..30: {whole:.1f} s (goal 60 s, ratio {whole / 60:.3f})")
+    return 0
 
 
 def register(sub, common) -> None:
-    p = sub.add_parser("fem", parents=[common], help="structure_fem: deflection studies, derived thresholds, selection table (not built yet)")
-    p.set_defaults(func=run)
+    p = sub.add_parser("fem", parents=[common], help="structure_fem: deflection studies, derived thresholds, selection table",
+                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    fs = p.add_subparsers(dest="fem_command", metavar="SUBCOMMAND", parser_class=type(p))
+    p.set_defaults(func=lambda a: (p.print_help(), 0)[1])
+
+    t = fs.add_parser("table", parents=[common], help="structure-selection table w=1..30, limits.json",
+                      epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    t.add_argument("--out", default="results/fem", help="output directory (default results/fem)")
+    t.add_argument("--docs", default=None, metavar="DIR", help="also write DIR/structure_fem_table.md")
+    t.add_argument("--full-json", action="store_true", help="include the table rows in --json output")
+    _add_inputs(t)
+    t.set_defaults(func=run_table)
+
+    s = fs.add_parser("study", parents=[common], help="deflection vs width plots, side view, sensitivity",
+                      epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    s.add_argument("--out", default="results/fem-study", help="output directory (default results/fem-study)")
+    _add_inputs(s)
+    s.set_defaults(func=run_study)
+
+    c = fs.add_parser("calibrate", parents=[common], help="fit the test-platform bolt to the thesis's measurement",
+                      epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    _add_inputs(c)
+    c.set_defaults(func=run_calibrate)
+
+    o = fs.add_parser("solve", parents=[common], help="solve one configuration",
+                      epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    o.add_argument("--structure", choices=("line", "two_line", "arch"), default="line")
+    o.add_argument("--arrangement", choices=("aligned", "staggered"), default="staggered")
+    o.add_argument("--lines", type=int, default=4, help="arch lines side by side (<= 8)")
+    o.add_argument("--layers", type=int, default=2, help="arch layers (<= 4)")
+    o.add_argument("--rows", type=int, required=True, help="rows in the structure")
+    o.add_argument("--over", type=float, required=True, help="rows past the near edge")
+    o.add_argument("--void", type=float, required=True, help="void width (robot widths)")
+    o.add_argument("--phase", choices=("cantilever", "bridged"), default="cantilever")
+    o.add_argument("--plot", default=None, metavar="PNG", help="write a side view")
+    _add_inputs(o)
+    o.set_defaults(func=run_solve)
+
+    b = fs.add_parser("bench", parents=[common], help="time one 15-robot solve and the whole table",
+                      epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    b.add_argument("--out", default="results/fem-bench", help="scratch output directory")
+    b.set_defaults(func=run_bench)
+
+
+def pipeline_stage(out: Path, ctx: dict) -> str:
+    """Derived table + plots from the cad stage's robot_properties.json (or the packaged one)."""
+    try:
+        import exudyn  # noqa: F401
+    except ImportError as exc:
+        from voidcross.pipeline import StageUnavailable
+
+        raise StageUnavailable(f"exudyn is not installed ({exc}); swarm_sim uses the packaged derived limits") from exc
+    from structure_fem.runs import RunOptions
+    from structure_fem.runs import run_table as _run
+
+    props = ctx.get("robot_properties")
+    res = _run(out_dir(out), RunOptions(properties=str(props) if props else None), alternative=False)
+    ctx["limits"] = res["files"]["limits"]
+    ctx["fem_dir"] = str(out)
+    th = res["thresholds"]
+    return (f"derived thresholds line {th['line']}, two_line {th['two_line']}, arch {th['arch']} "
+            f"{th['arch_levels']} (thesis 5/10/15 [20, 25, 30]); widest void {res['max_span_widths']}")
