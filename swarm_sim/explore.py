@@ -1,0 +1,206 @@
+"""Exploration walk of free robots, vectorised over a mask of walking robots.
+
+Per step each walker: (1) senses hazards: void ahead of a ground sensor, a wall
+or obstacle within ``avoid_cm`` ahead, another robot within ``avoid_cm`` in its
+front half-plane (grid query); (2) picks a heading goal: on a hazard a random
+turn of 90..180 deg away, else the walk (Levy walk: straight runs whose length
+follows a power law ``p(l) ~ l^-mu`` on ``[levy_min_cm, levy_max_cm]`` followed by a
+uniform random turn; random walk: a turn of ``+-random_turn_rad`` with probability
+``random_turn_prob`` per step); (3) turns towards the goal by at most
+``turn_max_rad`` per step and drives ``speed_cm_s * dt_s`` once aligned; (4) the
+body/edge reflex keeps the body off the void, inside the walls and off obstacles:
+a pose that would violate that is replaced by the first safe one of: drive without
+turning, turn without driving, slide away from the void edge, stand still.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .grid import HAVE_NUMBA, blocked_ahead, numba
+from .params import Params
+from .world import World, wrap
+
+
+def levy_lengths(u: np.ndarray, p: Params) -> np.ndarray:
+    """Inverse-CDF sample of a power law with exponent ``levy_mu`` (cm)."""
+    a = p.levy_mu - 1.0
+    if abs(a) < 1e-9:
+        lo, hi = np.log(p.levy_min_cm), np.log(p.levy_max_cm)
+        return np.exp(lo + u * (hi - lo))
+    lo, hi = p.levy_min_cm ** -a, p.levy_max_cm ** -a
+    return (lo + u * (hi - lo)) ** (-1.0 / a)
+
+
+def _walk_numpy(x, y, h, goal, run_left, walkers, straight, blocked, u, world: World, p: Params):
+    """Reference (numpy) version of the walk; the numba kernel mirrors it line by line."""
+    wx, wy, wh = x[walkers], y[walkers], h[walkers]
+    wg, wr = goal[walkers], run_left[walkers]
+    hazard = world.void_ahead(wx, wy, wh) | world.wall_ahead(wx, wy, wh) | (blocked & ~straight)
+    dist = p.speed_cm_s * p.dt_s
+    side = np.where(u[0] < 0.5, -1.0, 1.0)
+    wg = np.where(hazard, wh + side * (0.5 * np.pi + 0.5 * np.pi * u[1]), wg)
+    wr = np.where(hazard, 0.0, wr)
+    calm = ~hazard & ~straight
+    if p.walk == "levy":
+        wr = np.where(calm, wr - dist, wr)
+        need = calm & (wr <= 0)
+        wg = np.where(need, wh + np.pi * (2 * u[2] - 1), wg)
+        wr = np.where(need, levy_lengths(u[3], p), wr)
+    else:
+        turn = np.where(u[2] < p.random_turn_prob, np.where(u[3] < 0.5, -1.0, 1.0) * p.random_turn_rad, 0.0)
+        wg = np.where(calm, wg + turn, wg)
+    d = wrap(wg - wh)
+    dh = np.clip(d, -p.turn_max_rad, p.turn_max_rad)
+    nh_ = wrap(wh + dh)
+    aligned = np.abs(d - dh) < 1e-9
+    step = np.where(aligned & ~hazard, dist, 0.0)
+    nx, ny = wx + step * np.cos(nh_), wy + step * np.sin(nh_)
+    ok = world.pose_ok(nx, ny, nh_)
+    if not ok.all():
+        bad = ~ok
+        bx, by, bh = wx[bad], wy[bad], wh[bad]
+        ax, ay = bx + dist * np.cos(bh), by + dist * np.sin(bh)      # 1) drive, no turn
+        ok1 = world.pose_ok(ax, ay, bh)
+        ok2 = world.pose_ok(bx, by, nh_[bad])                          # 2) turn, no drive
+        mid = 0.5 * (world.x0_cm + world.x1_cm) if np.isfinite(world.x0_cm) else np.inf
+        sx = bx + np.where(bx < mid, -dist, dist)                      # 3) slide off the edge
+        ok3 = world.pose_ok(sx, by, bh)
+        nx[bad] = np.where(ok1, ax, np.where(ok2, bx, np.where(ok3, sx, bx)))
+        ny[bad] = np.where(ok1, ay, by)
+        nh_[bad] = np.where(ok1, bh, np.where(ok2, nh_[bad], bh))
+    x[walkers], y[walkers], h[walkers] = nx, ny, nh_
+    goal[walkers], run_left[walkers] = wg, wr
+
+
+if HAVE_NUMBA:
+
+    @numba.njit(cache=True)
+    def _ok(x, y, h, sq, hl, hw, W, H, x0, x1, obs, r):  # pragma: no cover - compiled
+        c = abs(math.cos(h))
+        s = abs(math.sin(h))
+        if sq:
+            ex = hl * c + hw * s
+            ey = hl * s + hw * c
+        else:
+            ex = r
+            ey = r
+        if x - ex < 0 or x + ex > W or y - ey < 0 or y + ey > H:
+            return False
+        if x + ex > x0 + 1e-9 and x - ex < x1 - 1e-9:
+            return False
+        for k in range(obs.shape[0]):
+            if (x - obs[k, 0]) ** 2 + (y - obs[k, 1]) ** 2 <= (obs[k, 2] + r) ** 2:
+                return False
+        return True
+
+    @numba.njit(cache=True)
+    def _wrap(a):  # pragma: no cover - compiled
+        return (a + math.pi) % (2 * math.pi) - math.pi
+
+    @numba.njit(cache=True)
+    def _walk_kernel(x, y, h, goal, run_left, walkers, straight, blocked, u, sq, hl, hw, W, H, x0, x1,
+                     obs, r, detect, avoid, dist, turn_max, levy, mu, lmin, lmax, p_turn,
+                     turn_rad):  # pragma: no cover - compiled
+        q = 0.5 * hw
+        a = mu - 1.0
+        mid = 0.5 * (x0 + x1)
+        for k in range(walkers.shape[0]):
+            i = walkers[k]
+            wx = x[i]
+            wy = y[i]
+            wh = h[i]
+            c = math.cos(wh)
+            s = math.sin(wh)
+            hz = False
+            if x0 < 1e300:
+                reach = detect * c
+                for lat in (0.0, q, -q):
+                    px = wx + hl * c - lat * s
+                    lo = min(px, px + reach)
+                    hi = max(px, px + reach)
+                    if hi > x0 and lo < x1:
+                        hz = True
+            px = wx + avoid * c
+            py = wy + avoid * s
+            if px < 0 or px > W or py < 0 or py > H:
+                hz = True
+            for o in range(obs.shape[0]):
+                dx = obs[o, 0] - wx
+                dy = obs[o, 1] - wy
+                if dx * dx + dy * dy < (obs[o, 2] + avoid) ** 2 and dx * c + dy * s > 0:
+                    hz = True
+            if blocked[k] and not straight[k]:
+                hz = True
+            g = goal[i]
+            rl = run_left[i]
+            if hz:
+                side = -1.0 if u[0, k] < 0.5 else 1.0
+                g = wh + side * (0.5 * math.pi + 0.5 * math.pi * u[1, k])
+                rl = 0.0
+            elif not straight[k]:
+                if levy:
+                    rl -= dist
+                    if rl <= 0:
+                        g = wh + math.pi * (2 * u[2, k] - 1)
+                        if abs(a) < 1e-9:
+                            rl = math.exp(math.log(lmin) + u[3, k] * (math.log(lmax) - math.log(lmin)))
+                        else:
+                            lo_ = lmin ** -a
+                            hi_ = lmax ** -a
+                            rl = (lo_ + u[3, k] * (hi_ - lo_)) ** (-1.0 / a)
+                elif u[2, k] < p_turn:
+                    g = g + (-1.0 if u[3, k] < 0.5 else 1.0) * turn_rad
+            d = _wrap(g - wh)
+            dh = min(max(d, -turn_max), turn_max)
+            nh = _wrap(wh + dh)
+            st = dist if (abs(d - dh) < 1e-9 and not hz) else 0.0
+            nx = wx + st * math.cos(nh)
+            ny = wy + st * math.sin(nh)
+            if not _ok(nx, ny, nh, sq, hl, hw, W, H, x0, x1, obs, r):
+                ax = wx + dist * c
+                ay = wy + dist * s
+                sx = wx - dist if wx < mid else wx + dist
+                if _ok(ax, ay, wh, sq, hl, hw, W, H, x0, x1, obs, r):
+                    nx, ny, nh = ax, ay, wh
+                elif _ok(wx, wy, nh, sq, hl, hw, W, H, x0, x1, obs, r):
+                    nx, ny = wx, wy
+                elif _ok(sx, wy, wh, sq, hl, hw, W, H, x0, x1, obs, r):
+                    nx, ny, nh = sx, wy, wh
+                else:
+                    nx, ny, nh = wx, wy, wh
+            x[i] = nx
+            y[i] = ny
+            h[i] = nh
+            goal[i] = g
+            run_left[i] = rl
+
+
+def walk(x, y, h, goal, run_left, walkers, straight, world: World, p: Params, rng: np.random.Generator,
+         use_numba: bool | None = None):
+    """Advance ``walkers`` (int index array) by one step; ``straight`` (bool over walkers)
+    marks dispersing robots that keep their heading goal and ignore other robots.
+    Returns new (x, y, h, goal, run_left) full arrays. Both back-ends consume the same
+    random numbers, so a seed gives the same run with or without numba."""
+    x, y, h, goal, run_left = x.copy(), y.copy(), h.copy(), goal.copy(), run_left.copy()
+    k = walkers.size
+    if k == 0:
+        return x, y, h, goal, run_left
+    if use_numba is None:
+        use_numba = HAVE_NUMBA
+    u = rng.random((4, k))
+    q = walkers[~straight]
+    blocked = blocked_ahead(x, y, h, q, p.avoid_cm, use_numba)[walkers] if q.size else np.zeros(k, bool)
+    if use_numba and HAVE_NUMBA and world.shape == "square":
+        _walk_kernel(x, y, h, goal, run_left, walkers.astype(np.int64), straight, blocked, u,
+                     True, 0.5 * world.length_cm, 0.5 * world.width_cm, world.w_cm, world.h_cm,
+                     world.x0_cm if np.isfinite(world.x0_cm) else 1e308,
+                     world.x1_cm if np.isfinite(world.x1_cm) else 1e308,
+                     world.obstacles, world.body_radius_cm, world.detect_cm, world.avoid_cm,
+                     p.speed_cm_s * p.dt_s, p.turn_max_rad, p.walk == "levy", p.levy_mu,
+                     p.levy_min_cm, p.levy_max_cm, p.random_turn_prob, p.random_turn_rad)
+    else:
+        _walk_numpy(x, y, h, goal, run_left, walkers, straight, blocked, u, world, p)
+    return x, y, h, goal, run_left

@@ -1,0 +1,64 @@
+"""Invariants checked every step in tests and ``--debug`` runs.
+
+* robot count conserved (no robot vanishes, no NaN pose);
+* no robot body over the void unless it is a member of a structure that satisfies
+  the stability rule (:func:`swarm_sim.structure.stable`) where it stands;
+* no robot outside the arena walls;
+* structure bookkeeping: members unique, their ``struct_index`` equals 1..n front to rear,
+  member poses lie on the structure's line.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import structure as S
+from .params import Params
+from .state import Mode, SwarmState
+from .world import World
+
+
+def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> list[str]:
+    out: list[str] = []
+    n = state.n
+    if n != n_robots or any(a.shape[0] != n_robots for a in (state.y_cm, state.heading_rad, state.mode)):
+        out.append(f"t={state.t_s:.2f}s: robot count {n} != {n_robots}")
+        return out
+    if not (np.isfinite(state.x_cm).all() and np.isfinite(state.y_cm).all()):
+        out.append(f"t={state.t_s:.2f}s: non-finite robot pose")
+        return out
+    st = state.structure
+    members = set(st.members) if st is not None else set()
+    if st is not None and len(members) != len(st.members):
+        out.append(f"t={state.t_s:.2f}s: duplicate structure members {st.members}")
+    over = world.over_void(state.x_cm, state.heading_rad)
+    for i in np.flatnonzero(over):
+        if int(i) not in members:
+            out.append(f"t={state.t_s:.2f}s: robot {int(i)} (mode {Mode(int(state.mode[i])).name}) is over the "
+                       f"void at ({state.x_cm[i]:.2f}, {state.y_cm[i]:.2f}) cm outside any structure")
+    if st is not None and st.members and st.action != "align":
+        c = S.counts_at(st.front_s_cm, len(st.members), p.robot_length_cm, p.void_width_cm)
+        if c.n_g and not S.stable(c, p):
+            out.append(f"t={state.t_s:.2f}s: structure n_p={c.n_p} n_g={c.n_g} n_o={c.n_o} breaks the "
+                       f"rule (ratio {p.ground_ratio}, margin {p.ground_margin}, span {p.max_span_widths})")
+        ids = np.array(st.members)
+        if not np.array_equal(state.struct_index[ids], np.arange(1, len(ids) + 1)):
+            out.append(f"t={state.t_s:.2f}s: structure indices {state.struct_index[ids].tolist()} are not 1..n")
+        mx, my, _ = S.member_poses(st, p.robot_length_cm)
+        if np.abs(state.x_cm[ids] - mx).max() > 1e-6 or np.abs(state.y_cm[ids] - my).max() > 1e-6:
+            out.append(f"t={state.t_s:.2f}s: structure members are off the line")
+    lo, hi = world.x_extent(state.x_cm, state.heading_rad)
+    ylo, yhi = world.y_extent(state.y_cm, state.heading_rad)
+    outside = (lo < -1e-6) | (hi > world.w_cm + 1e-6) | (ylo < -1e-6) | (yhi > world.h_cm + 1e-6)
+    for i in np.flatnonzero(outside):
+        out.append(f"t={state.t_s:.2f}s: robot {int(i)} is outside the arena at "
+                   f"({state.x_cm[i]:.2f}, {state.y_cm[i]:.2f}) cm")
+    return out
+
+
+def lost_robots(state: SwarmState, world: World) -> np.ndarray:
+    """Robots that would fall: body over the void while not in the structure (cheap check)."""
+    over = world.over_void(state.x_cm, state.heading_rad)
+    if state.structure is not None and state.structure.members:
+        over[np.array(state.structure.members)] = False
+    return np.flatnonzero(over)

@@ -1,0 +1,255 @@
+"""Scenario parameters: presets are TOML data files, flattened into one frozen record.
+
+Units are in the names: centimetres (``_cm``), seconds (``_s``), radians (``_rad``).
+A preset (``swarm_sim/presets/<name>.toml``, or a path to a TOML file) gives every
+value; ``run_scenario(..., **overrides)`` may replace any field by its flat name
+(``arena_w_cm=800``). Every value is validated; bad input raises :class:`InputError`
+naming the value.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field, fields, replace
+from importlib import resources
+from pathlib import Path
+
+from .errors import InputError
+
+CASES = ("A", "B", "C", "D")
+STARTS = ("fixed", "random")
+WALKS = ("levy", "random")
+SHAPES = ("square", "octagon")
+
+#: TOML "section.key" -> flat Params field.
+TOML_KEYS = {
+    "scenario.case": "case", "scenario.start": "start", "scenario.robots": "robots",
+    "scenario.void_width": "void_width", "scenario.case_margin": "case_margin",
+    "arena.width_cm": "arena_w_cm", "arena.height_cm": "arena_h_cm",
+    "void.left_x_cm": "void_left_x_cm",
+    "robot.length_cm": "robot_length_cm", "robot.width_cm": "robot_width_cm",
+    "robot.wheel_base_cm": "wheel_base_cm", "robot.wheel_radius_cm": "wheel_radius_cm",
+    "robot.wheel_width_cm": "wheel_width_cm", "robot.shape": "shape",
+    "robot.speed_cm_s": "speed_cm_s", "robot.turn_max_rad": "turn_max_rad",
+    "sensors.void_detect_cm": "void_detect_cm", "sensors.avoid_cm": "avoid_cm",
+    "target.x_cm": "target_x_cm", "target.y_cm": "target_y_cm",
+    "target.radius_cm": "target_radius_cm", "target.found_cm": "target_found_cm",
+    "exploration.walk": "walk", "exploration.levy_mu": "levy_mu",
+    "exploration.levy_min_cm": "levy_min_cm", "exploration.levy_max_cm": "levy_max_cm",
+    "exploration.random_turn_prob": "random_turn_prob",
+    "exploration.random_turn_rad": "random_turn_rad",
+    "sim.dt_s": "dt_s", "sim.max_time_s": "max_time_s",
+    "sim.wander_after_retreat_s": "wander_after_retreat_s",
+}
+
+
+@dataclass(frozen=True)
+class Params:
+    """Everything one run needs. Void and target geometry: the void is a vertical band
+    ``void_left_x_cm .. void_left_x_cm + void_width * robot_length_cm`` spanning the arena
+    height; the robots start on its left (initial side), the target is on its right."""
+
+    preset: str = "custom"
+    case: str = "D"
+    start: str = "random"
+    robots: int = 9
+    void_width: int = 3
+    case_margin: int = 0
+    arena_w_cm: float = 500.0
+    arena_h_cm: float = 300.0
+    void_left_x_cm: float | None = None  # None: void centred
+    robot_length_cm: float = 10.0
+    robot_width_cm: float = 10.0
+    wheel_base_cm: float = 7.0
+    wheel_radius_cm: float = 2.1
+    wheel_width_cm: float = 0.1
+    shape: str = "square"
+    speed_cm_s: float = 13.89
+    turn_max_rad: float = math.pi / 2
+    void_detect_cm: float = 5.0
+    avoid_cm: float = 15.0
+    target_x_cm: float = 475.0
+    target_y_cm: float = 150.0
+    target_radius_cm: float = 5.0
+    target_found_cm: float = 5.0
+    obstacles: tuple[tuple[float, float, float], ...] = ()
+    walk: str = "levy"
+    levy_mu: float = 2.0
+    levy_min_cm: float = 5.0
+    levy_max_cm: float = 300.0
+    random_turn_prob: float = 0.1
+    random_turn_rad: float = 0.3
+    dt_s: float = 0.01
+    max_time_s: float = 1500.0
+    wander_after_retreat_s: float = 5.0
+    # behaviour timing of the structure (not in the thesis; small, documented)
+    release_clear_s: float = 1.0
+    recruit_timeout_s: float = 120.0
+    launch_min_robots: int = 3
+    # resolved from the limits record (filled by with_limits)
+    limits_source: str = "unresolved"
+    ground_ratio: float = 2.0
+    ground_margin: int = 0
+    max_span_widths: int = 5
+    min_robots_rule: int = 0
+    extra: dict = field(default_factory=dict, compare=False)
+
+    # ------------------------------------------------------------------ derived geometry
+    @property
+    def void_width_cm(self) -> float:
+        return self.void_width * self.robot_length_cm
+
+    @property
+    def void_x0_cm(self) -> float:
+        if self.void_width <= 0:
+            return math.inf
+        if self.void_left_x_cm is not None:
+            return float(self.void_left_x_cm)
+        return 0.5 * (self.arena_w_cm - self.void_width_cm)
+
+    @property
+    def void_x1_cm(self) -> float:
+        return self.void_x0_cm + self.void_width_cm if self.void_width > 0 else math.inf
+
+    @property
+    def steps_per_s(self) -> float:
+        return 1.0 / self.dt_s
+
+    def validate(self) -> Params:
+        def req(cond: bool, msg: str) -> None:
+            if not cond:
+                raise InputError(msg)
+
+        def pos(name: str) -> None:
+            v = getattr(self, name)
+            req(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0,
+                f"{name} must be a positive number, got {v!r}")
+
+        req(self.case in CASES, f"case {self.case!r} is not one of {', '.join(CASES)}")
+        req(self.start in STARTS, f"start {self.start!r} is not one of {', '.join(STARTS)}")
+        req(self.walk in WALKS, f"walk {self.walk!r} is not one of {', '.join(WALKS)}")
+        req(self.shape in SHAPES, f"shape {self.shape!r} is not one of {', '.join(SHAPES)}")
+        req(isinstance(self.robots, int) and not isinstance(self.robots, bool) and self.robots >= 1,
+            f"robots must be a positive integer, got {self.robots!r}")
+        req(isinstance(self.void_width, int) and not isinstance(self.void_width, bool)
+            and self.void_width >= 1, f"void_width must be a positive integer (robot widths), got {self.void_width!r}")
+        req(isinstance(self.case_margin, int) and self.case_margin >= 0,
+            f"case_margin must be an integer >= 0, got {self.case_margin!r}")
+        for name in ("arena_w_cm", "arena_h_cm", "robot_length_cm", "robot_width_cm", "wheel_base_cm",
+                     "wheel_radius_cm", "wheel_width_cm", "speed_cm_s", "turn_max_rad", "void_detect_cm",
+                     "avoid_cm", "target_radius_cm", "target_found_cm", "levy_min_cm", "levy_max_cm",
+                     "random_turn_rad", "dt_s", "max_time_s", "levy_mu"):
+            pos(name)
+        req(self.wander_after_retreat_s >= 0, f"wander_after_retreat_s must be >= 0, got {self.wander_after_retreat_s}")
+        req(0 <= self.random_turn_prob <= 1, f"random_turn_prob must be in 0..1, got {self.random_turn_prob}")
+        req(self.levy_max_cm >= self.levy_min_cm,
+            f"levy_max_cm {self.levy_max_cm} is below levy_min_cm {self.levy_min_cm}")
+        req(self.dt_s <= 0.1, f"dt_s {self.dt_s} is too coarse (> 0.1 s)")
+        L = self.robot_length_cm
+        req(self.void_width_cm < self.arena_w_cm,
+            f"void_width {self.void_width} ({self.void_width_cm:g} cm) is wider than the arena "
+            f"({self.arena_w_cm:g} cm)")
+        x0, x1 = self.void_x0_cm, self.void_x1_cm
+        req(x0 >= 3 * L, f"void at x={x0:g} cm leaves less than 3 robot lengths of initial ground")
+        req(x1 <= self.arena_w_cm - 2 * L,
+            f"void_width {self.void_width}: the void ends at x={x1:g} cm, leaving less than 2 robot "
+            f"lengths of target ground in a {self.arena_w_cm:g} cm arena")
+        tx, ty = self.target_x_cm, self.target_y_cm
+        req(0 <= tx <= self.arena_w_cm and 0 <= ty <= self.arena_h_cm,
+            f"target ({tx:g}, {ty:g}) cm is outside the {self.arena_w_cm:g} x {self.arena_h_cm:g} cm arena")
+        req(tx - self.target_radius_cm > x1 or tx + self.target_radius_cm < x0,
+            f"target x={tx:g} cm is inside (or touching) the void {x0:g}..{x1:g} cm")
+        req(tx > x1, f"target x={tx:g} cm is on the initial side of the void (x < {x0:g} cm)")
+        for i, ob in enumerate(self.obstacles):
+            req(len(ob) == 3 and all(isinstance(v, (int, float)) and math.isfinite(v) for v in ob) and ob[2] > 0,
+                f"obstacle {i} must be (x_cm, y_cm, r_cm) with r > 0, got {ob!r}")
+        # the swarm must fit on the initial ground at the start
+        free_area = (x0 - 2 * L) * (self.arena_h_cm - 2 * L)
+        req(self.robots * (2 * L) ** 2 <= max(free_area, 0) * 0.9,
+            f"robots={self.robots} do not fit on the {x0:g} x {self.arena_h_cm:g} cm initial side")
+        return self
+
+
+def _flatten(doc: dict, source: str) -> dict:
+    flat: dict = {}
+    for section, body in doc.items():
+        if section == "obstacles":
+            if not isinstance(body, list):
+                raise InputError(f"{source}: [[obstacles]] must be an array of tables")
+            obs = []
+            for i, ob in enumerate(body):
+                try:
+                    obs.append((float(ob["x_cm"]), float(ob["y_cm"]), float(ob.get("r_cm", 5.0))))
+                except (KeyError, TypeError, ValueError) as exc:
+                    raise InputError(f"{source}: obstacle {i} needs numeric x_cm, y_cm (r_cm): {exc}") from None
+            flat["obstacles"] = tuple(obs)
+            continue
+        if not isinstance(body, dict):
+            raise InputError(f"{source}: top-level key {section!r} is not a [section]")
+        for key, value in body.items():
+            name = TOML_KEYS.get(f"{section}.{key}")
+            if name is None:
+                raise InputError(f"{source}: unknown setting {section}.{key}")
+            flat[name] = value
+    return flat
+
+
+def preset_names() -> list[str]:
+    d = resources.files("swarm_sim") / "presets"
+    return sorted(p.name[:-5] for p in d.iterdir() if p.name.endswith(".toml"))
+
+
+def load_preset(preset: str) -> Params:
+    """A named preset (``case-d``) or a path to a TOML file -> validated-later Params."""
+    if not isinstance(preset, str) or not preset:
+        raise InputError(f"preset must be a name or a TOML path, got {preset!r}")
+    path = Path(preset)
+    if preset.endswith(".toml") or path.exists():
+        if not path.is_file():
+            raise InputError(f"preset file {preset} does not exist")
+        text, source, name = path.read_bytes(), str(path), path.stem
+    else:
+        res = resources.files("swarm_sim") / "presets" / f"{preset}.toml"
+        if not res.is_file():
+            raise InputError(f"unknown preset {preset!r} (known: {', '.join(preset_names())})")
+        text, source, name = res.read_bytes(), f"preset {preset}", preset
+    try:
+        doc = tomllib.loads(text.decode("utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise InputError(f"{source}: malformed TOML: {exc}") from None
+    flat = _flatten(doc, source)
+    return with_overrides(Params(preset=name), flat, source)
+
+
+def with_overrides(params: Params, overrides: dict, source: str = "override") -> Params:
+    names = {f.name for f in fields(Params)} - {"extra", "limits_source", "ground_ratio",
+                                                "ground_margin", "max_span_widths", "min_robots_rule"}
+    clean = {}
+    for k, v in overrides.items():
+        if k not in names:
+            raise InputError(f"{source}: unknown parameter {k!r}")
+        ref = getattr(params, k)
+        if isinstance(ref, float) and isinstance(v, int) and not isinstance(v, bool):
+            v = float(v)
+        if k == "obstacles":
+            v = tuple(tuple(float(c) for c in ob) for ob in v)
+        elif ref is not None and k != "void_left_x_cm" and type(v) is not type(ref):
+            raise InputError(f"{source}: {k} must be {type(ref).__name__}, got {v!r}")
+        clean[k] = v
+    return replace(params, **clean)
+
+
+def with_limits(params: Params, limits) -> Params:
+    """Resolve the stability rule from a ``StructureLimits`` record (single-line level)."""
+    line = next((lvl for lvl in limits.levels if lvl.kind == "line"), None)
+    if line is None:
+        raise InputError(f"the {limits.source} limits define no single-line structure")
+    w = params.void_width
+    if w <= line.max_span_widths:
+        rule_min = line.robots_for(w) + params.case_margin
+    else:
+        rule_min = 0  # the line cannot span it: the swarm must retreat
+    return replace(params, limits_source=limits.source, ground_ratio=float(line.ground_ratio),
+                   ground_margin=int(line.ground_margin) + params.case_margin,
+                   max_span_widths=int(line.max_span_widths), min_robots_rule=int(rule_min))

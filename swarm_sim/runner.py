@@ -1,0 +1,220 @@
+"""Run one scenario: ``run_scenario(preset, robots, void_width, seed, ...) -> RunResult``.
+
+This is the contract the Monte-Carlo sweeps (``swarm_sim.sweeps``) call from worker
+processes: a module-level function of plain arguments, returning a record whose
+``to_dict()`` is JSON-able. Same arguments, same result (seeded ``numpy`` Generator).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from .errors import InputError, InvariantViolation
+from .invariants import lost_robots, violations
+from .params import Params, load_preset, with_limits, with_overrides
+from .state import Phase, SwarmState, new_state
+from .step import step
+from .world import World
+
+
+@dataclass
+class RunResult:
+    preset: str
+    robots: int
+    void_width: int
+    seed: int
+    limits_source: str
+    success: bool
+    retreated: bool
+    timed_out: bool
+    robots_lost: int
+    times: dict
+    seed_robot: int | None
+    seed_position: list | None
+    target_finder: int | None
+    min_robots_rule: int
+    robots_delivered: int
+    robots_on_initial_side: int
+    steps: int
+    wall_s: float
+    violations: list = field(default_factory=list)
+    events: list = field(default_factory=list)
+
+    def to_dict(self, events: bool = False) -> dict:
+        d = {k: getattr(self, k) for k in (
+            "success", "retreated", "timed_out", "robots_lost", "times", "seed_robot", "seed_position",
+            "target_finder", "preset", "robots", "void_width", "seed", "limits_source", "min_robots_rule",
+            "robots_delivered", "robots_on_initial_side", "steps", "wall_s", "violations")}
+        d["times"] = dict(self.times)
+        if events:
+            d["events"] = [{"t_s": t, "kind": k, "robot": r, **data} for t, k, r, data in self.events]
+        return d
+
+
+# ---------------------------------------------------------------------------- set-up
+
+def resolve_params(preset: str, robots: int, void_width: int, limits: str = "derived",
+                   max_time_s: float | None = None, **overrides) -> Params:
+    """Preset + overrides + limits -> validated :class:`Params`."""
+    from structure_fem.limits import load_limits
+
+    for name, v in (("robots", robots), ("void_width", void_width)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+            raise InputError(f"{name} must be an integer, got {v!r}")
+    p = load_preset(preset)
+    ov = dict(overrides)
+    ov["robots"] = int(robots)
+    ov["void_width"] = int(void_width)
+    if max_time_s is not None:
+        ov["max_time_s"] = float(max_time_s)
+    p = with_overrides(p, ov).validate()
+    return with_limits(p, load_limits(limits))
+
+
+def initial_poses(p: Params, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Fixed starts (cases A-C: a grid on the initial side, facing the void, ids rising towards
+    it) or random non-overlapping starts with random headings (case D)."""
+    L = p.robot_length_cm
+    x0 = p.void_x0_cm
+    n = p.robots
+    if p.start == "fixed":
+        pitch = 2.5 * L
+        rows = max(1, min(n, int((p.arena_h_cm - 2 * L) // pitch)))
+        cols = math.ceil(n / rows)
+        xs = 2 * L + pitch * np.arange(cols)
+        if xs[-1] > x0 - 3 * L:
+            raise InputError(f"robots={n} do not fit in the fixed start grid left of the void")
+        ys0 = 0.5 * p.arena_h_cm - 0.5 * pitch * (rows - 1)
+        k = np.arange(n)
+        x = xs[k // rows]
+        y = ys0 + pitch * (k % rows)
+        h = np.zeros(n)
+        ok = World.from_params(p).pose_ok(x, y, h)
+        if not ok.all():  # an obstacle sits on the grid: shift those robots sideways
+            for i in np.flatnonzero(~ok):
+                for dy in (pitch / 2, -pitch / 2, pitch, -pitch):
+                    if World.from_params(p).pose_ok(x[i:i + 1], y[i:i + 1] + dy, h[i:i + 1])[0]:
+                        y[i] += dy
+                        break
+        return x.astype(float), y.astype(float), h
+    world = World.from_params(p)
+    r = world.body_radius_cm
+    xs, ys = [], []
+    lo_x, hi_x, lo_y, hi_y = r, x0 - 2 * L, r, p.arena_h_cm - r
+    tries = 0
+    while len(xs) < n:
+        tries += 1
+        if tries > 200 * n + 1000:
+            raise InputError(f"robots={n} could not be placed without overlap on the initial side")
+        cx, cy = rng.uniform(lo_x, hi_x), rng.uniform(lo_y, hi_y)
+        if xs:
+            d2 = (np.array(xs) - cx) ** 2 + (np.array(ys) - cy) ** 2
+            if d2.min() < (2 * r) ** 2:
+                continue
+        if not world.pose_ok(np.array([cx]), np.array([cy]), np.array([0.0]))[0]:
+            continue
+        xs.append(cx)
+        ys.append(cy)
+    return np.array(xs), np.array(ys), rng.uniform(-np.pi, np.pi, n)
+
+
+def init_state(p: Params, rng: np.random.Generator) -> SwarmState:
+    x, y, h = initial_poses(p, rng)
+    return new_state(x, y, h)
+
+
+# ---------------------------------------------------------------------------- metrics
+
+def times_from_events(events: tuple, t_end: float, phase: int) -> dict:
+    """T_s, T_a, T_o, T_d, T_b, T_t (s) from the event log; null for a phase a run that
+    timed out never finished, 0 for a phase the run's outcome skips (thesis tables)."""
+    first = {}
+    for t, kind, _r, _d in events:
+        first.setdefault(kind, t)
+    ts = first.get("seed")
+    out = {k: None for k in ("Ts", "Ta", "To", "Td", "Tb", "Tt")}
+    out["Tt"] = round(t_end, 6) if phase != Phase.TIMEOUT else None
+    if ts is None:
+        return out
+    out["Ts"] = ts
+    t_found, t_retreat, t_dissolved, t_stop = (first.get(k) for k in ("target_found", "retreat", "dissolved", "stopped"))
+    if phase == Phase.SUCCESS:
+        end_a = min(v for v in (t_dissolved, t_found) if v is not None)
+        out.update(Ta=end_a - ts, To=(t_found - t_dissolved) if t_dissolved is not None and t_dissolved < t_found else 0.0,
+                   Td=0.0, Tb=0.0)
+    elif t_retreat is not None:
+        out["Ta"] = t_retreat - ts
+        if t_dissolved is not None:
+            out["Td"] = t_dissolved - t_retreat
+            out["To"] = 0.0
+            if t_stop is not None:
+                out["Tb"] = t_stop - t_dissolved
+    elif t_dissolved is not None:
+        out["Ta"] = t_dissolved - ts
+    return {k: (round(v, 6) if v is not None else None) for k, v in out.items()}
+
+
+# ---------------------------------------------------------------------------- run
+
+def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None = None,
+             use_numba: bool | None = None) -> tuple[SwarmState, RunResult]:
+    """Run to the end (target found, retreat finished, or ``max_time_s``)."""
+    rng = np.random.default_rng(seed)
+    world = World.from_params(p)
+    state = init_state(p, rng)
+    lost: set[int] = set()
+    viol: list[str] = []
+    t0 = time.perf_counter()
+    if on_step is not None:
+        on_step(state)
+    while state.phase not in (Phase.SUCCESS, Phase.RETREATED, Phase.TIMEOUT):
+        state = step(state, p, world, rng, use_numba)
+        lost.update(int(i) for i in lost_robots(state, world))
+        if check:
+            v = violations(state, p, world, p.robots)
+            if v:
+                viol.extend(v[:5])
+                if len(viol) > 50:
+                    break
+        if on_step is not None:
+            on_step(state)
+    wall = time.perf_counter() - t0
+    times = times_from_events(state.events, state.t_s, state.phase)
+    side = world.side_of(state.x_cm)
+    res = RunResult(
+        preset=p.preset, robots=p.robots, void_width=p.void_width, seed=int(seed), limits_source=p.limits_source,
+        success=state.phase == Phase.SUCCESS, retreated=state.phase == Phase.RETREATED,
+        timed_out=state.phase == Phase.TIMEOUT, robots_lost=len(lost), times=times,
+        seed_robot=state.seed_robot if state.seed_robot >= 0 else None,
+        seed_position=list(state.seed_position) if state.seed_position is not None else None,
+        target_finder=state.target_finder if state.target_finder >= 0 else None,
+        min_robots_rule=p.min_robots_rule, robots_delivered=int((side > 0).sum()),
+        robots_on_initial_side=int((side < 0).sum()), steps=state.step, wall_s=round(wall, 4),
+        violations=viol, events=list(state.events))
+    return state, res
+
+
+def run_scenario(preset: str, robots: int, void_width: int, seed: int, limits: str = "derived",
+                 max_time_s: float | None = None, **overrides) -> RunResult:
+    """One run. ``preset``: a preset name (``case-d``) or TOML path; ``robots``: swarm size;
+    ``void_width``: robot widths; ``seed``: RNG seed; ``limits``: ``derived`` | ``thesis`` |
+    path to limits.json; ``max_time_s``: simulated-time cap; ``overrides``: any flat
+    :class:`Params` field (``arena_w_cm=800``) plus ``check_invariants=True`` (raise
+    :class:`InvariantViolation` on the first broken invariant).
+    Raises :class:`InputError` on bad input."""
+    check = bool(overrides.pop("check_invariants", False))
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise InputError(f"seed must be a non-negative integer, got {seed!r}")
+    p = resolve_params(preset, robots, void_width, limits, max_time_s, **overrides)
+    _, res = simulate(p, int(seed), check=check)
+    if check and res.violations:
+        raise InvariantViolation(res.violations[0])
+    return res
+
+
+__all__ = ["RunResult", "run_scenario", "resolve_params", "simulate", "init_state", "replace"]

@@ -1,0 +1,115 @@
+"""Simulator state: a struct of numpy arrays (one entry per robot) plus the structure record.
+
+Robot modes are small integers (:class:`Mode`); the thesis's Table 4.3 state
+(-1 initial exploration, -2 target exploration, -3 retreat, 1..n position in
+the structure) is derived from ``mode`` and ``struct_index`` by
+:func:`thesis_state`, never stored in a second place.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from enum import IntEnum
+
+import numpy as np
+
+
+class Mode(IntEnum):
+    EXPLORE = 0   # -1: initial exploration (free robot on the initial side)
+    SEED = 1      # the seed while it aligns perpendicular to the edge (structure index 1)
+    RECRUIT = 2   # a free robot called to the rear of the structure, approaching to dock
+    MEMBER = 3    # docked in the structure (index 1..n, front = 1)
+    TARGET = 4    # -2: released at the front, explores the target side
+    RETREAT = 5   # -3: released at the rear after a failed crossing, wanders
+    STOPPED = 6   # -3 after the wander period (failure) / any robot once the run ended
+
+
+#: Modes whose motion is the exploration walk (vectorised over a mask).
+WALKING_MODES = (Mode.EXPLORE, Mode.TARGET, Mode.RETREAT)
+
+
+class Phase(IntEnum):
+    SEARCH = 0        # no void found yet
+    BUILD = 1         # a structure exists (assembly, crossing or retreat)
+    DELIVERED = 2     # structure dissolved on the target side, robots search the target
+    WANDER = 3        # after a retreat: robots wander wander_after_retreat_s, then stop
+    SUCCESS = 4       # target found
+    RETREATED = 5     # wandered after the retreat and stopped
+    TIMEOUT = 6       # max_time_s reached
+
+
+@dataclass(frozen=True)
+class Structure:
+    """A rigid bridge: ``members`` ordered front (index 1) to rear, moving as one body.
+
+    Geometry is data: the near edge point ``origin`` (x, y cm) on the line axis,
+    the unit ``direction`` towards the far ledge, and ``front_s_cm``, the front
+    face's distance past the near edge along ``direction``. Member k (0-based from
+    the front) has its centre at ``origin + (front_s_cm - (k + 0.5) * L) * direction``.
+    ``lines``/``layers`` describe the cross-section (1 x 1 for the single line).
+    """
+
+    members: tuple[int, ...]
+    origin_x_cm: float
+    origin_y_cm: float
+    dir_x: float
+    dir_y: float
+    front_s_cm: float
+    lines: int = 1
+    layers: int = 1
+    action: str = "align"          # see structure.ACTIONS
+    goal_s_cm: float = 0.0         # front_s target of the current move
+    wait_until_s: float = 0.0
+    recruit: int = -1
+    recruit_since_s: float = 0.0
+    landed: bool = False
+    retreating: bool = False
+
+
+@dataclass(frozen=True)
+class SwarmState:
+    x_cm: np.ndarray
+    y_cm: np.ndarray
+    heading_rad: np.ndarray
+    goal_heading_rad: np.ndarray
+    run_left_cm: np.ndarray      # Levy walk: length left on the current straight run
+    mode: np.ndarray             # int8 Mode
+    struct_index: np.ndarray     # int16: 1..n while in the structure, else 0
+    disperse_left_s: np.ndarray  # released robots drive straight away for this long
+    t_s: float = 0.0
+    step: int = 0
+    phase: int = Phase.SEARCH
+    phase_since_s: float = 0.0
+    structure: Structure | None = None
+    seed_robot: int = -1
+    seed_position: tuple[float, float] | None = None
+    target_finder: int = -1
+    events: tuple = field(default_factory=tuple)
+
+    @property
+    def n(self) -> int:
+        return int(self.x_cm.shape[0])
+
+    def with_event(self, kind: str, robot: int = -1, **data) -> SwarmState:
+        return replace(self, events=self.events + ((round(self.t_s, 6), kind, int(robot), data),))
+
+
+def thesis_state(state: SwarmState) -> np.ndarray:
+    """Table 4.3 numbering: -1 initial, -2 target, -3 retreat, 1..n structure position."""
+    out = np.full(state.n, -1, dtype=np.int16)
+    m = state.mode
+    out[m == Mode.TARGET] = -2
+    out[(m == Mode.RETREAT) | (m == Mode.STOPPED)] = -3
+    ins = (m == Mode.MEMBER) | (m == Mode.SEED)
+    out[ins] = state.struct_index[ins]
+    return out
+
+
+def new_state(x_cm: np.ndarray, y_cm: np.ndarray, heading_rad: np.ndarray) -> SwarmState:
+    n = x_cm.shape[0]
+    return SwarmState(
+        x_cm=np.asarray(x_cm, dtype=np.float64), y_cm=np.asarray(y_cm, dtype=np.float64),
+        heading_rad=np.asarray(heading_rad, dtype=np.float64),
+        goal_heading_rad=np.asarray(heading_rad, dtype=np.float64).copy(),
+        run_left_cm=np.zeros(n), mode=np.zeros(n, dtype=np.int8),
+        struct_index=np.zeros(n, dtype=np.int16), disperse_left_s=np.zeros(n))

@@ -1,0 +1,264 @@
+"""One simulation step: ``step(state, params, world, rng) -> state`` (inputs are not mutated).
+
+Order within a step (dt = ``params.dt_s``):
+1. seed detection (search phase): an initial explorer whose ground sensor sees the
+   void becomes the seed (ties: the one nearest the void) and the ``void found``
+   broadcast stops others from seeding;
+2. free robots walk (vectorised over the walking modes, :mod:`swarm_sim.explore`);
+3. the structure acts (:mod:`swarm_sim.structure`): align, decide, move, recruit, release;
+4. the target check, the post-retreat wander clock and the timeout.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from . import structure as S
+from .explore import walk
+from .params import Params
+from .state import WALKING_MODES, Mode, Phase, Structure, SwarmState
+from .world import World, wrap
+
+DISPERSE_S = 2.0  # released robots drive straight away from the structure this long
+ENDED = (Phase.SUCCESS, Phase.RETREATED, Phase.TIMEOUT)
+WALKING_LUT = np.zeros(len(Mode), dtype=bool)
+WALKING_LUT[list(WALKING_MODES)] = True
+
+
+def _goto(x, y, h, tx, ty, p: Params, world: World, final_heading: float | None = None):
+    """Drive one robot one step towards (tx, ty): turn (limited), then drive; stays off hazards."""
+    dist = p.speed_cm_s * p.dt_s
+    dx, dy = tx - x, ty - y
+    r = math.hypot(dx, dy)
+    if r < 1e-9:
+        if final_heading is None:
+            return x, y, h, True
+        d = float(wrap(np.array(final_heading - h)))
+        nh = h + max(-p.turn_max_rad, min(p.turn_max_rad, d))
+        return x, y, nh, abs(d) <= p.turn_max_rad
+    want = math.atan2(dy, dx)
+    d = float(wrap(np.array(want - h)))
+    nh = h + max(-p.turn_max_rad, min(p.turn_max_rad, d))
+    if abs(d) > p.turn_max_rad + 1e-12:
+        if world.pose_ok1(x, y, nh):
+            return x, y, nh, False
+        return x, y, h, False
+    step = min(dist, r)
+    nx, ny = x + step * math.cos(want), y + step * math.sin(want)
+    if world.pose_ok1(nx, ny, want):
+        return nx, ny, want, False
+    return x, y, h, False
+
+
+def _place_members(arr, st: Structure, p: Params):
+    x, y, h, idx = arr
+    if st.members:
+        mx, my, mh = S.member_poses(st, p.robot_length_cm)
+        ids = np.array(st.members)
+        x[ids], y[ids], h[ids] = mx, my, mh
+        idx[ids] = np.arange(1, len(ids) + 1)
+
+
+def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
+         use_numba: bool | None = None) -> SwarmState:
+    if state.phase in ENDED:
+        return state
+    t = state.t_s + p.dt_s
+    mode = state.mode.copy()
+    sidx = state.struct_index.copy()
+    disp = state.disperse_left_s.copy()
+    st = state.structure
+    new = state
+    events: list = []
+
+    def ev(kind, robot=-1, **data):
+        events.append((round(t, 6), kind, int(robot), data))
+
+    phase, phase_since = state.phase, state.phase_since_s
+    seed_robot, seed_pos = state.seed_robot, state.seed_position
+
+    # 1. seed detection
+    if phase == Phase.SEARCH:
+        cand = np.flatnonzero(mode == Mode.EXPLORE)
+        if cand.size:
+            sees = world.void_ahead(state.x_cm[cand], state.y_cm[cand], state.heading_rad[cand])
+            if sees.any():
+                c = cand[sees]
+                seed = int(c[np.argmax(state.x_cm[c])])
+                mode[seed] = Mode.SEED
+                sidx[seed] = 1
+                st = Structure(members=(seed,), origin_x_cm=world.x0_cm, origin_y_cm=float(state.y_cm[seed]),
+                               dir_x=1.0, dir_y=0.0, front_s_cm=0.0, action="align")
+                phase, phase_since, seed_robot = Phase.BUILD, t, seed
+                ev("seed", seed, x_cm=float(state.x_cm[seed]), y_cm=float(state.y_cm[seed]))
+
+    # 2. walkers
+    walking = WALKING_LUT[mode]
+    walkers = np.flatnonzero(walking)
+    x, y, h, goal, run_left = walk(state.x_cm, state.y_cm, state.heading_rad, state.goal_heading_rad,
+                                   state.run_left_cm, walkers, disp[walkers] > 0, world, p, rng, use_numba)
+    disp = np.maximum(disp - p.dt_s, 0.0)
+
+    # 3. the structure
+    if st is not None and phase == Phase.BUILD:
+        L = p.robot_length_cm
+        dist = p.speed_cm_s * p.dt_s
+        if st.action == "align":
+            s0 = st.members[0]
+            dir_h = math.atan2(st.dir_y, st.dir_x)
+            hx, hy, hh = float(x[s0]), float(y[s0]), float(h[s0])
+            d = float(wrap(np.array(dir_h - hh)))
+            if abs(d) > 1e-9:
+                nh = hh + max(-p.turn_max_rad, min(p.turn_max_rad, d))
+                if world.pose_ok1(hx, hy, nh):
+                    h[s0] = nh
+                else:  # too close to the edge to turn: back away from it first
+                    x[s0] = hx - dist * st.dir_x
+                    y[s0] = hy - dist * st.dir_y
+            else:
+                h[s0] = dir_h
+                gap = (world.x0_cm - 0.5 * L) - hx  # distance to the aligned pose
+                if gap > dist:
+                    x[s0] = hx + dist
+                else:
+                    st = replace(st, origin_y_cm=hy, front_s_cm=0.0, action="idle")
+                    mode[s0] = Mode.MEMBER
+                    seed_pos = (round(world.x0_cm - 0.5 * L, 6), round(hy, 6))
+                    ev("aligned", s0, x_cm=seed_pos[0], y_cm=seed_pos[1])
+        elif st.action == "wait":
+            if t >= st.wait_until_s:
+                st = replace(st, action="idle")
+        elif st.action in ("advance", "back"):
+            sgn = 1.0 if st.action == "advance" else -1.0
+            f = st.front_s_cm + sgn * dist
+            if (f - st.goal_s_cm) * sgn >= -EPS_MOVE:
+                f = st.goal_s_cm
+                st = replace(st, front_s_cm=f, action="idle")
+            else:
+                st = replace(st, front_s_cm=f)
+            if not st.landed and st.front_s_cm + world.detect_cm >= p.void_width_cm - 1e-6:
+                st = replace(st, landed=True)
+                ev("far_ledge", st.members[0], front_s_cm=round(st.front_s_cm, 6))
+        elif st.action == "recruit":
+            r = st.recruit
+            rear_s = st.front_s_cm - len(st.members) * L
+            dock_s = rear_s - 0.5 * L
+            dxp, dyp = st.origin_x_cm + dock_s * st.dir_x, st.origin_y_cm + dock_s * st.dir_y
+            stage_back = min(2 * L, max(0.0, dxp - world.body_radius_cm - 0.5))
+            wxp, wyp = dxp - stage_back * st.dir_x, dyp - stage_back * st.dir_y
+            dir_h = math.atan2(st.dir_y, st.dir_x)
+            rx, ry, rh = float(x[r]), float(y[r]), float(h[r])
+            on_axis = abs((ry - dyp) * st.dir_x - (rx - dxp) * st.dir_y) < 1e-6 and \
+                (dxp - rx) * st.dir_x + (dyp - ry) * st.dir_y >= -1e-6
+            if not on_axis:
+                nx, ny, nh, _ = _goto(rx, ry, rh, wxp, wyp, p, world)
+            else:
+                nx, ny, nh, arrived = _goto(rx, ry, rh, dxp, dyp, p, world, final_heading=dir_h)
+                if arrived and math.hypot(nx - dxp, ny - dyp) < 1e-9:
+                    members = st.members + (r,)
+                    st = replace(st, members=members, recruit=-1, action="idle")
+                    mode[r] = Mode.MEMBER
+                    ev("dock", r, index=len(members))
+            x[r], y[r], h[r] = nx, ny, nh
+            if st.recruit == r and t - st.recruit_since_s > p.recruit_timeout_s:
+                mode[r] = Mode.EXPLORE
+                st = replace(st, recruit=-1, action="idle")
+                ev("recruit_timeout", r)
+        if st.action == "idle":
+            free = np.flatnonzero(mode == Mode.EXPLORE)
+            n = len(st.members)
+            rear_s = st.front_s_cm - n * L
+            dock_s = rear_s - 0.5 * L
+            dxp = st.origin_x_cm + dock_s * st.dir_x
+            dyp = st.origin_y_cm + dock_s * st.dir_y
+            dock_ok = world.pose_ok1(dxp, dyp, 0.0)
+            action, sit = S.decide(st, p, free.size > 0, dock_ok)
+            if action == "release_front":
+                fr = st.members[0]
+                members = st.members[1:]
+                mode[fr] = Mode.TARGET
+                sidx[fr] = 0
+                u = rng.random(2)
+                ang = math.atan2(st.dir_y, st.dir_x) + (1 if u[0] < 0.5 else -1) * (0.35 + 0.7 * u[1])
+                goal[fr] = ang  # turns there through the walk (the edge reflex guards the body)
+                run_left[fr] = 0.0
+                disp[fr] = DISPERSE_S
+                st = replace(st, members=members, front_s_cm=st.front_s_cm - L, action="wait",
+                             wait_until_s=t + p.release_clear_s)
+                ev("release_front", fr, n_left=len(members))
+            elif action == "release_rear":
+                rr = st.members[-1]
+                members = st.members[:-1]
+                mode[rr] = Mode.RETREAT
+                sidx[rr] = 0
+                u = rng.random(2)
+                ang = math.atan2(-st.dir_y, -st.dir_x) + (1 if u[0] < 0.5 else -1) * (0.35 + 0.7 * u[1])
+                goal[rr] = ang
+                run_left[rr] = 0.0
+                disp[rr] = DISPERSE_S
+                st = replace(st, members=members, action="wait", wait_until_s=t + p.release_clear_s)
+                ev("release_rear", rr, n_left=len(members))
+            elif action == "advance":
+                st = replace(st, action="advance", goal_s_cm=st.front_s_cm + L)
+                ev("advance", st.members[0], n_p=sit.counts.n_p, n_g=sit.counts.n_g, n_o=sit.counts.n_o)
+            elif action == "back":
+                st = replace(st, action="back", goal_s_cm=st.front_s_cm - L)
+            elif action == "recruit":
+                d2 = (x[free] - dxp) ** 2 + (y[free] - dyp) ** 2
+                r = int(free[np.argmin(d2)])
+                mode[r] = Mode.RECRUIT
+                st = replace(st, action="recruit", recruit=r, recruit_since_s=t)
+                ev("recruit", r, n=n)
+            elif action == "retreat":
+                st = replace(st, retreating=True)
+                ev("retreat", st.members[0] if st.members else -1,
+                   n=n, n_p=sit.counts.n_p, n_g=sit.counts.n_g, free=int(free.size),
+                   why="span" if sit.span_blocked else "no_free_robot")
+        if st.action in ("wait", "idle") and not st.members:
+            # the structure is gone
+            if st.retreating:
+                phase, phase_since = Phase.WANDER, t
+                ev("dissolved", retreated=True)
+                m = (mode == Mode.EXPLORE) | (mode == Mode.RECRUIT)
+                mode[m] = Mode.RETREAT
+            else:
+                phase, phase_since = Phase.DELIVERED, t
+                ev("dissolved", retreated=False)
+            st = None
+        if st is not None and st.action != "align":
+            for i in st.members:
+                sidx[i] = 0
+            _place_members((x, y, h, sidx), st, p)
+
+    # 4. target, wander clock, timeout
+    target_finder = state.target_finder
+    if phase in (Phase.BUILD, Phase.DELIVERED):
+        tg = np.flatnonzero(mode == Mode.TARGET)
+        if tg.size:
+            d2 = (x[tg] - world.target_x_cm) ** 2 + (y[tg] - world.target_y_cm) ** 2
+            hit = d2 <= world.target_found_cm ** 2
+            if hit.any():
+                target_finder = int(tg[hit][np.argmin(d2[hit])])
+                phase, phase_since = Phase.SUCCESS, t
+                ev("target_found", target_finder)
+                mode[WALKING_LUT[mode]] = Mode.STOPPED
+    if phase == Phase.WANDER and t - phase_since >= p.wander_after_retreat_s - 1e-9:
+        phase, phase_since = Phase.RETREATED, t
+        mode[:] = Mode.STOPPED
+        ev("stopped")
+    if phase not in ENDED and t >= p.max_time_s - 1e-9:
+        phase, phase_since = Phase.TIMEOUT, t
+        ev("timeout")
+
+    new = replace(state, x_cm=x, y_cm=y, heading_rad=h, goal_heading_rad=goal, run_left_cm=run_left,
+                  mode=mode, struct_index=sidx, disperse_left_s=disp, t_s=t, step=state.step + 1,
+                  phase=int(phase), phase_since_s=phase_since, structure=st, seed_robot=seed_robot,
+                  seed_position=seed_pos, target_finder=target_finder,
+                  events=state.events + tuple(events) if events else state.events)
+    return new
+
+
+EPS_MOVE = 1e-9

@@ -1,0 +1,164 @@
+"""The bridge as a rigid moving line, its stability rule and its decision table.
+
+The structure is data (:class:`swarm_sim.state.Structure`): ordered member ids
+(front first), the near-edge origin, a direction and the front face's position
+``front_s_cm`` past the near edge. Every member's pose follows from it, so the
+stability rule is exact: each member is counted by where its centre of mass is:
+
+* ``n_p`` on the initial ground (centre before the near edge),
+* ``n_g`` over the void,
+* ``n_o`` on the target ground (centre past the far edge).
+
+Stability rule (the limits record's ``ground_ratio`` r and ``ground_margin`` m,
+the case's margin already added; thesis r = 2, m = 0 for cases B-D, m = 2 for A):
+
+* cantilever from the initial side (``n_o = 0``): ``n_p >= r n_g + m``;
+* cantilever from the target side (``n_p = 0``): ``n_o >= r n_g + m``;
+* both ends on ground: ``n_p + n_o >= r n_g + m``;
+* and never more than the line's widest span (``max_span_widths``) over the void.
+
+With r = 2, m = 0 the front reaches the far ledge (``n_g = w``) only with
+``n_p = 2w``, so N = 3w crosses and 3w - 1 retreats (Ch. 4.6.3); the bridged
+steady state is ``n_p = n_g = n_o`` with 3w + 1 robots while the front one is
+released. With m = 2 it is case A's N = 3w + 2.
+
+The decision table (:data:`BUILD_TABLE`, :data:`RETREAT_TABLE`) is evaluated in
+order when the structure is idle; the first row whose guard holds is the action.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .params import Params
+from .state import Structure
+
+EPS = 1e-6
+
+#: Structure actions (the ``action`` field): what the structure is doing now.
+ACTIONS = {
+    "align": "the seed turns perpendicular to the edge and creeps to it",
+    "idle": "decide the next action from the table",
+    "wait": "pause after a release until the released robot is clear",
+    "recruit": "a called robot approaches the rear dock point",
+    "advance": "move forward one robot length",
+    "back": "move backward one robot length (retreat)",
+}
+
+
+@dataclass(frozen=True)
+class Counts:
+    n_p: int
+    n_g: int
+    n_o: int
+
+
+def centres_s(st: Structure, L: float) -> np.ndarray:
+    """Distance of each member's centre past the near edge (cm), front first."""
+    k = np.arange(len(st.members))
+    return st.front_s_cm - (k + 0.5) * L
+
+
+def member_poses(st: Structure, L: float) -> tuple[np.ndarray, np.ndarray, float]:
+    s = centres_s(st, L)
+    return st.origin_x_cm + s * st.dir_x, st.origin_y_cm + s * st.dir_y, float(np.arctan2(st.dir_y, st.dir_x))
+
+
+def counts_at(front_s: float, n: int, L: float, void_cm: float) -> Counts:
+    s = front_s - (np.arange(n) + 0.5) * L
+    n_p = int(np.sum(s <= EPS))
+    n_o = int(np.sum(s >= void_cm - EPS))
+    return Counts(n_p, n - n_p - n_o, n_o)
+
+
+def stable(c: Counts, p: Params) -> bool:
+    if c.n_g == 0:
+        return True
+    if c.n_g > p.max_span_widths:
+        return False
+    need = p.ground_ratio * c.n_g + p.ground_margin - EPS
+    if c.n_p and c.n_o:
+        return c.n_p + c.n_o >= need
+    if c.n_p:
+        return c.n_p >= need
+    if c.n_o:
+        return c.n_o >= need
+    return False
+
+
+def move_stable(front_from: float, front_to: float, n: int, p: Params) -> bool:
+    """The rule holds at every configuration the line passes through on a move."""
+    L, V = p.robot_length_cm, p.void_width_cm
+    # counts change only where a member centre crosses an edge: check just after each crossing
+    lo, hi = min(front_from, front_to), max(front_from, front_to)
+    pts = [front_from, front_to]
+    for k in range(n):
+        for edge in (0.0, V):
+            f = edge + (k + 0.5) * L
+            if lo - EPS <= f <= hi + EPS:
+                pts += [f - 10 * EPS, f + 10 * EPS]
+    return all(stable(counts_at(f, n, L, V), p) for f in pts if lo - 20 * EPS <= f <= hi + 20 * EPS)
+
+
+@dataclass(frozen=True)
+class Situation:
+    """What the structure knows when idle (all local to the structure or broadcast)."""
+
+    counts: Counts
+    n: int
+    landed: bool
+    front_on_target: bool
+    rear_on_initial: bool
+    free_available: bool
+    dock_ok: bool
+    can_advance: bool
+    span_blocked: bool
+    stable_without_front: bool
+    stable_without_rear: bool
+
+
+def situation(st: Structure, p: Params, free_available: bool, dock_ok: bool) -> Situation:
+    L, V, n = p.robot_length_cm, p.void_width_cm, len(st.members)
+    c = counts_at(st.front_s_cm, n, L, V)
+    front_on_target = n > 0 and st.front_s_cm - L >= V - EPS
+    rear_on_initial = n > 0 and st.front_s_cm - (n - 1) * L <= EPS
+    after = counts_at(st.front_s_cm + L, n, L, V)
+    span_blocked = not st.landed and after.n_g > p.max_span_widths
+    launch_ok = n >= p.launch_min_robots or st.front_s_cm > EPS
+    can_advance = launch_ok and not span_blocked and move_stable(st.front_s_cm, st.front_s_cm + L, n, p)
+    wo_front = counts_at(st.front_s_cm - L, n - 1, L, V) if n > 1 else Counts(0, 0, 0)
+    wo_rear = counts_at(st.front_s_cm, n - 1, L, V) if n > 1 else Counts(0, 0, 0)
+    return Situation(c, n, st.landed, front_on_target, rear_on_initial, free_available, dock_ok,
+                     can_advance, span_blocked, stable(wo_front, p), stable(wo_rear, p))
+
+
+def _can_recruit(s: Situation) -> bool:
+    return s.free_available and s.rear_on_initial and s.dock_ok
+
+
+#: Building (not retreating): (action, guard) rows, first match wins.
+BUILD_TABLE = (
+    ("release_front", lambda s: s.front_on_target and s.stable_without_front),
+    ("retreat", lambda s: s.span_blocked),
+    ("recruit", lambda s: _can_recruit(s) and (s.counts.n_p <= s.counts.n_g if s.landed else not s.can_advance)),
+    ("advance", lambda s: s.can_advance),
+    ("recruit", lambda s: _can_recruit(s)),
+    ("retreat", lambda s: True),
+)
+
+#: Retreating: release at the rear while the rest stays stable, else back off one length.
+RETREAT_TABLE = (
+    ("release_rear", lambda s: s.rear_on_initial and s.stable_without_rear),
+    ("back", lambda s: True),
+)
+
+
+def decide(st: Structure, p: Params, free_available: bool, dock_ok: bool) -> tuple[str, Situation]:
+    s = situation(st, p, free_available, dock_ok)
+    table = RETREAT_TABLE if st.retreating else BUILD_TABLE
+    for action, guard in table:
+        if guard(s):
+            return action, s
+    raise AssertionError("decision table has no default row")  # pragma: no cover
