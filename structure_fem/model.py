@@ -197,9 +197,9 @@ def solve(config: Config, robot: RobotProperties, conn: ConnectorSet | None = No
     mbs.Assemble()
 
     ss = exu.SimulationSettings()
-    ss.solutionSettings.writeSolutionToFile = False
-    ss.solutionSettings.sensorsStoreAndWriteFiles = False
-    ss.solutionSettings.writeInitialValues = False
+    ss.solution.file.write = False
+    ss.solution.sensors.active = False
+    ss.solution.file.writeInitialValues = False
     st = ss.staticSolver
     st.verboseMode = 0
     st.numberOfLoadSteps = options.load_steps
@@ -210,7 +210,7 @@ def solve(config: Config, robot: RobotProperties, conn: ConnectorSet | None = No
     st.newton.absoluteTolerance = options.absolute_tolerance
     st.newton.relativeTolerance = options.relative_tolerance
     st.newton.maxIterations = options.max_iterations
-    ss.linearSolverType = exu.LinearSolverType.EXUdense if len(nodes) < 60 else exu.LinearSolverType.EigenSparse
+    ss.linearSolver.solverType = exu.LinearSolverType.EXUdense if len(nodes) < 60 else exu.LinearSolverType.EigenSparse
 
     what = config.describe(robot.name)
     try:

@@ -1,0 +1,93 @@
+"""Continuum reference: a cantilever of beam elements under its own weight (SI units).
+
+The thesis's Eq. 7.1 treats a line of robots as one continuous beam,
+``delta = W L^4 / (8 E I)`` with ``W = A rho g``. :func:`cantilever_tip` solves
+the same beam with exudyn ANCF cable elements (``ObjectANCFCable2D``), so the
+package's beam model is validated against Eq. 7.1, and :func:`eq71_tip` gives
+the closed form itself for a line of robots (hollow robots: the section's
+``A`` and ``I`` both scale with the fill fraction, which cancels).
+"""
+
+from __future__ import annotations
+
+import math
+
+from cubot_cad.properties import RobotProperties
+
+from .errors import InputError, SolverFailure
+from .structures import GRAVITY
+
+
+def eq71_tip(length_m: float, width_m: float, height_m: float, density_kg_m3: float, youngs_pa: float) -> float:
+    """Thesis Eq. 7.1: tip deflection (m) of a solid rectangular cantilever under its own weight."""
+    for name, v in (("length", length_m), ("width", width_m), ("height", height_m),
+                    ("density", density_kg_m3), ("Young's modulus", youngs_pa)):
+        if not (math.isfinite(v) and v > 0):
+            raise InputError(f"beam {name} must be > 0, got {v!r}")
+    w = width_m * height_m * density_kg_m3 * GRAVITY
+    i = width_m * height_m ** 3 / 12.0
+    return w * length_m ** 4 / (8.0 * youngs_pa * i)
+
+
+def eq71_line_tip(robot: RobotProperties, widths: int) -> float:
+    """Eq. 7.1 for a line of ``robot`` cantilevered ``widths`` robot lengths (the continuum estimate)."""
+    return eq71_tip(widths * robot.length_m, robot.width_m, robot.height_m, robot.density_kg_m3,
+                    robot.youngs_modulus_pa)
+
+
+def cantilever_tip(length_m: float, mass_per_length: float, bending_stiffness: float,
+                   axial_stiffness: float, elements: int = 16) -> float:
+    """Tip deflection (m, positive down) of a clamped ANCF cable cantilever under gravity."""
+    import exudyn as exu
+    from exudyn.itemInterface import (
+        LoadMassProportional,
+        MarkerBodyMass,
+        MarkerNodeCoordinate,
+        NodePoint2DSlope1,
+        NodePointGround,
+        ObjectANCFCable2D,
+        ObjectConnectorCoordinate,
+    )
+
+    for name, v in (("length", length_m), ("mass per length", mass_per_length),
+                    ("bending stiffness", bending_stiffness), ("axial stiffness", axial_stiffness)):
+        if not (math.isfinite(v) and v > 0):
+            raise InputError(f"beam {name} must be > 0, got {v!r}")
+    if not (isinstance(elements, int) and elements >= 1):
+        raise InputError(f"beam elements must be an integer >= 1, got {elements!r}")
+    exu.config.printToConsole = False
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    le = length_m / elements
+    nodes = [mbs.AddNode(NodePoint2DSlope1(referenceCoordinates=[i * le, 0.0, 1.0, 0.0]))
+             for i in range(elements + 1)]
+    for i in range(elements):
+        o = mbs.AddObject(ObjectANCFCable2D(nodeNumbers=[nodes[i], nodes[i + 1]], length=le,
+                                            massPerLength=mass_per_length, bendingStiffness=bending_stiffness,
+                                            axialStiffness=axial_stiffness))
+        m = mbs.AddMarker(MarkerBodyMass(bodyNumber=o))
+        mbs.AddLoad(LoadMassProportional(markerNumber=m, loadVector=[0.0, -GRAVITY, 0.0]))
+    g = mbs.AddNode(NodePointGround(referenceCoordinates=[0, 0, 0]))
+    mg = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=g, coordinate=0))
+    for coord in (0, 1, 3):  # clamp: x, y and the slope's y component at the root
+        mc = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nodes[0], coordinate=coord))
+        mbs.AddObject(ObjectConnectorCoordinate(markerNumbers=[mg, mc]))
+    mbs.Assemble()
+    ss = exu.SimulationSettings()
+    ss.solution.file.write = False
+    ss.solution.sensors.active = False
+    st = ss.staticSolver
+    st.verboseMode = 0
+    st.numberOfLoadSteps = 4
+    st.newton.adaptInitialResidual = False
+    st.newton.relativeTolerance = 1e-6  # round-off floor ~3e-8 with EA ~ 1e8 N
+    st.newton.absoluteTolerance = 1e-6
+    ss.linearSolver.solverType = exu.LinearSolverType.EXUdense
+    try:
+        ok = mbs.SolveStatic(ss)
+    except Exception as exc:
+        raise SolverFailure(f"beam cantilever L={length_m} m, {elements} elements: {exc}") from exc
+    if ok is False:
+        raise SolverFailure(f"beam cantilever L={length_m} m, {elements} elements did not converge")
+    q = mbs.systemData.GetODE2Coordinates()
+    return -float(q[4 * elements + 1])

@@ -1,0 +1,38 @@
+"""Shared fixtures for structure_fem tests: robot records built in the test (so the numbers the
+tests derive from are visible here) and the packaged record (for expectations derived from it)."""
+
+from __future__ import annotations
+
+import pytest
+
+from cubot_cad.properties import ConnectorProperties, RobotProperties, default_properties
+
+
+def make_robot(mass=0.3, k=200.0, k_ax=2e5, backlash=0.0, com_x=0.0, name="testbot") -> RobotProperties:
+    L, W, H = 0.1, 0.1, 0.085
+    iyy = mass * (L ** 2 + H ** 2) / 12
+    ixx = mass * (W ** 2 + H ** 2) / 12
+    izz = mass * (L ** 2 + W ** 2) / 12
+    conns = (
+        ConnectorProperties("front_rear", k, k_ax, backlash, 0.0, 0.03),
+        ConnectorProperties("side_rail", k, k_ax, backlash, 0.0, 0.01),
+        ConnectorProperties("top_twist", k, k_ax, backlash, 0.0, H),
+    )
+    return RobotProperties(name, L, W, H, mass, (com_x, 0.0, 0.04), (ixx, iyy, izz, 0, 0, 0),
+                           0.015, 0.0033, "ABS", 1040.0, 2.2e9, conns, source="test")
+
+
+@pytest.fixture(name="make_robot")
+def make_robot_fixture():
+    """The factory :func:`make_robot` (robot records with explicit, test-chosen numbers)."""
+    return make_robot
+
+
+@pytest.fixture
+def robot() -> RobotProperties:
+    return make_robot()
+
+
+@pytest.fixture(scope="session")
+def cubot() -> RobotProperties:
+    return default_properties().get("cubot")

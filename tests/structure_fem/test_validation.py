@@ -1,0 +1,110 @@
+"""The model against closed forms: continuum beam (Eq. 7.1), rigid-link chain, symmetry, linearity."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+pytest.importorskip("exudyn")
+
+from structure_fem.beams import cantilever_tip, eq71_line_tip, eq71_tip  # noqa: E402
+from structure_fem.connectors import ConnectorSet  # noqa: E402
+from structure_fem.model import Config, SolverOptions, solve  # noqa: E402
+from structure_fem.structures import GRAVITY, Structure  # noqa: E402
+
+
+def test_continuum_cantilever_matches_w_L4_over_8EI():
+    """ANCF cable cantilever of a solid ABS section 100 x 85 mm, 1 m long, under its own weight."""
+    L, b, h, rho, E = 1.0, 0.1, 0.085, 1040.0, 2.2e9
+    A, i_area = b * h, b * h ** 3 / 12
+    expected = (A * rho * GRAVITY) * L ** 4 / (8 * E * i_area)
+    assert eq71_tip(L, b, h, rho, E) == pytest.approx(expected, rel=1e-12)
+    got = cantilever_tip(L, A * rho, E * i_area, E * A, elements=8)
+    assert got == pytest.approx(expected, rel=0.02)
+
+
+def test_eq71_says_a_solid_line_of_cubes_barely_bends(cubot):
+    """Thesis 7.1.3: the continuum estimate of a 10-wide single line is far below the wheel clearance."""
+    assert eq71_line_tip(cubot, 10) < 0.2 * cubot.wheel_exposed_height_m
+
+
+CHAIN_K = 2.0e4  # N m/rad: stiff enough that n = 15 stays in the small-angle range (tip ~1 % of length)
+CHAIN_KAX = 1.0e8  # N/m: stiff pins (their shear slip is in the closed form)
+
+
+@pytest.mark.parametrize("n", range(1, 16))
+def test_rigid_link_chain_matches_closed_form(n, make_robot):
+    """n rigid links (length a, mass m) cantilevered from a clamped root, a rotational spring k at
+    each of the n joints (the root joint included), pins of axial/shear stiffness k_ax.
+
+    Derivation (small angles): number the joints from the tip, joint i at distance i a from the
+    tip. The links outboard of joint i have their centres at (l - 1/2) a, l = 1..i, so the
+    moment there is M_i = m g a sum_{l=1}^{i} (l - 1/2) = m g a i^2 / 2 and the joint turns by
+    theta_i = M_i / k. That rotation lowers the tip by theta_i * i a, so
+
+        delta_rot = sum_i m g a^2 i^3 / (2 k) = m g a^2 / (2 k) * (n (n + 1) / 2)^2.
+
+    Each pin also slides by its shear V_i / k_ax = m g i / k_ax:
+    delta_pin = m g n (n + 1) / (2 k_ax).
+
+    The clamp is the root row held at its bottom corners (x = -a, 0) by springs k_c. It carries
+    the chain's shear V = n m g and moment M = m g a n^2 / 2 at x = 0 and its own weight at
+    -a/2, so F_front = V + m g / 2 + M / a and F_rear = m g / 2 - M / a; it sinks by
+    F_front / k_c at the edge and turns by (F_front - F_rear) / (k_c a), which lowers the tip by
+
+        delta_clamp = [F_front + n (F_front - F_rear)] / k_c.
+    """
+    robot = make_robot(k=CHAIN_K, k_ax=CHAIN_KAX)
+    a, m = robot.length_m, robot.mass_kg
+    cfg = Config(Structure("line"), rows=n + 1, rows_over=n, void_widths=n, clamped=True)
+    res = solve(cfg, robot, options=SolverOptions(contact_n_per_m=1e9))
+    kc = 1e9
+    s = n * (n + 1) / 2
+    mg = m * GRAVITY
+    f_front = n * mg + mg / 2 + mg * n * n / 2
+    f_rear = mg / 2 - mg * n * n / 2
+    expected = (mg * a ** 2 / (2 * CHAIN_K) * s ** 2 + mg * n * (n + 1) / (2 * CHAIN_KAX)
+                + (f_front + n * (f_front - f_rear)) / kc)
+    assert res.tip_deflection_m == pytest.approx(expected, rel=0.01)
+    # The joint rotations follow M_i / k too (joint list runs front to rear: i = 1..n from the tip).
+    rot = -res.joint_rotation_rad[:n]
+    assert rot == pytest.approx([m * GRAVITY * a * i * i / 2 / CHAIN_K for i in range(1, n + 1)], rel=0.01)
+
+
+def test_symmetric_bridge_deflects_symmetrically(make_robot):
+    robot = make_robot(backlash=0.002)
+    w, side = 5, 3
+    rows = w + 2 * side
+    res = solve(Config(Structure("line"), rows, w + side, w, "bridged"), robot)
+    drop = -res.underside_m[:, :, 1]  # (rows, [rear, front]) front row first
+    mirrored = drop[::-1, ::-1]
+    assert np.max(np.abs(drop - mirrored)) < 1e-6 * max(np.max(np.abs(drop)), 1e-9) + 1e-10
+    mid = drop[side + w // 2]
+    assert mid.max() > 0  # it sags
+    r = res.reactions_n
+    assert r.sum() == pytest.approx(res.total_weight_n, rel=1e-6)
+    near = sum(f for f, s in zip(r, res.layout.supports, strict=True) if s.ledge == "near")
+    assert near == pytest.approx(res.total_weight_n / 2, rel=1e-6)
+
+
+@pytest.mark.parametrize("phase,over", [("cantilever", 4), ("bridged", 6)])
+def test_doubling_every_stiffness_halves_small_deflection(phase, over, make_robot):
+    robot = make_robot(k=2000.0)
+    cfg = Config(Structure("two_line", 2, 1, "staggered"), 10, over, 4, phase)
+    conn = ConnectorSet.from_robot(robot)
+    base = solve(cfg, robot, conn, options=SolverOptions(contact_n_per_m=1e6))
+    stiff = solve(cfg, robot, conn.scaled(2.0), options=SolverOptions(contact_n_per_m=2e6))
+    assert base.max_deflection_m > 0 and math.isfinite(base.max_deflection_m)
+    assert stiff.max_deflection_m == pytest.approx(base.max_deflection_m / 2, rel=2e-3)
+    assert stiff.joint_rotation_rad == pytest.approx(base.joint_rotation_rad / 2, rel=2e-3, abs=1e-9)
+
+
+def test_aligned_side_by_side_lines_deflect_exactly_like_one_line(robot):
+    """Same load per coupling: two aligned lines add no bending stiffness (why the thesis's two-line
+    step buys nothing in this model)."""
+    one = solve(Config(Structure("line"), 9, 4, 4), robot)
+    two = solve(Config(Structure("two_line", 2, 1, "aligned"), 9, 4, 4), robot)
+    assert two.tip_deflection_m == pytest.approx(one.tip_deflection_m, rel=1e-6)
+    assert two.robots == 2 * one.robots
