@@ -60,6 +60,16 @@ def simulate(key: dict) -> dict:
     return res.to_dict()
 
 
+def preflight(spec: SweepSpec) -> None:
+    """Validate every point with the simulator's own parameter checks before anything is written
+    (unknown preset, a swarm that does not fit, a void wider than the arena ...: InputError)."""
+    from swarm_sim.runner import resolve_params
+
+    for n, w in spec.point_list():
+        resolve_params(spec.preset, n, w, limits=spec.limits_label, max_time_s=spec.max_time_s,
+                       **spec.overrides)
+
+
 @dataclass(frozen=True)
 class SweepSpec:
     """What to run: ``runs`` seeds for each (robots, void_width) point.
@@ -196,6 +206,8 @@ def prepare_sweep(spec: SweepSpec, db: str | os.PathLike, resume: bool = False, 
     run_fn = run_fn or DEFAULT_RUN_FN
     if isinstance(run_fn, str):
         resolve_run_fn(run_fn)  # fail before touching the db
+    if run_fn in (DEFAULT_RUN_FN, simulate):
+        preflight(spec)
     digest = digest or limits_digest(spec.limits)
     keys = spec.keys(digest)
     from .store import check_db

@@ -48,9 +48,9 @@ def synthetic_run(key: dict) -> dict:
     edge_x = 250.0 - 5.0 * w
     return {
         "success": success, "retreated": not success, "robots_lost": 0, "times": times,
-        "seed_robot": int(rng.integers(1, n + 1)),
+        "seed_robot": int(rng.integers(0, n)),
         "seed_position": [edge_x - 5.0, float(rng.uniform(10, 290))],
-        "target_finder": int(rng.integers(1, n + 1)) if success else None,
+        "target_finder": int(rng.integers(0, n)) if success else None,
         "preset": key["preset"], "robots": n, "void_width": w, "seed": seed,
         "limits_source": key.get("limits", "thesis"),
     }

@@ -1,22 +1,57 @@
-"""`voidcross report`: the thesis's tables and figures regenerated, one HTML/Markdown report.
-
-Placeholder until issue #7 lands: the parser exists so the CLI contract
-holds; running it says honestly that the stage is not built.
-"""
+"""`voidcross report`: the thesis's tables and figures regenerated from a sweep database,
+beside the thesis's own values, as one static HTML page plus Markdown."""
 
 from __future__ import annotations
 
 import argparse
-import sys
+from pathlib import Path
 
-NOT_BUILT = "`voidcross report` is not built yet (issue #7)"
+from ..output import emit
+
+EPILOG = """examples:
+  voidcross report --db results/case-d.sqlite
+  voidcross report --db results/case-d.sqlite --out report/ --fem-dir exports/fem --cad-dir exports/cad
+  voidcross report --db results/all.sqlite --limits results/pipeline/fem/limits.json --json
+
+Sections: structure limits (derived and thesis), per case the success matrix, mean T_a/T_d/T_t
+tables, times vs swarm size (mean, 25/75 %), seed-id / target-finder-id frequencies and seed
+positions; Tables 4.4-4.9 (ours / thesis); large voids (Fig. 5.9-5.13); structure_fem and CAD
+outputs when their directories are given. A section without data says so.
+"""
 
 
 def run(args: argparse.Namespace) -> int:
-    print(f"error: {NOT_BUILT}", file=sys.stderr)
-    return 1
+    from ..report import build_report
+
+    res = build_report(args.db, args.out, fem_dir=args.fem_dir, cad_dir=args.cad_dir, limits=args.limits)
+    emit(args, res, f"report at {res['html']} (Markdown: {res['markdown']}; {res['figures']} figures, "
+                    f"{res['runs']} runs, {res['no_data_notes']} sections without data)")
+    return 0
 
 
 def register(sub, common) -> None:
-    p = sub.add_parser("report", parents=[common], help="the thesis's tables and figures regenerated, one HTML/Markdown report (not built yet)")
+    p = sub.add_parser("report", parents=[common], formatter_class=argparse.RawDescriptionHelpFormatter,
+                       help="the thesis's tables and figures regenerated, one HTML/Markdown report",
+                       description="Build report/index.html and report/report.md (figures in report/figures/) "
+                                   "from a sweep database.", epilog=EPILOG)
+    p.add_argument("--db", required=True, help="results database written by `voidcross sweep`")
+    p.add_argument("--out", default="report", help="output directory (default: report/)")
+    p.add_argument("--fem-dir", dest="fem_dir", help="structure_fem output directory (.md tables, .png plots)")
+    p.add_argument("--cad-dir", dest="cad_dir", help="cubot_cad output directory (.png renders)")
+    p.add_argument("--limits", default=None,
+                   help="limits.json to show as the derived limits (default: the packaged derived limits)")
     p.set_defaults(func=run)
+
+
+def pipeline_stage(out: Path, ctx: dict) -> str:
+    from ..report import build_report
+
+    db = ctx.get("db")
+    if not db:
+        from ..pipeline import StageUnavailable
+
+        raise StageUnavailable("no results database from the sim stage (ctx['db'] is unset)")
+    res = build_report(db, out, fem_dir=ctx.get("fem_dir"), cad_dir=ctx.get("cad_dir"),
+                       limits=ctx.get("limits"))
+    ctx["report"] = res["html"]
+    return f"report at {res['html']}"

@@ -1,0 +1,219 @@
+"""`voidcross report`: built from a sweep database, every figure on disk, thesis values beside ours."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import sqlite3
+import subprocess
+import tempfile
+from html.parser import HTMLParser
+from pathlib import Path
+
+import pytest
+
+from swarm_sim.sweeps import SweepSpec, prepare_sweep
+from swarm_sim.sweeps.executors import SerialExecutor
+from voidcross.report import build_report
+from voidcross.report.thesis import THESIS_TABLES, thesis_tables
+
+SYNTH = "swarm_sim.sweeps.synthetic:synthetic_run"
+THESIS_TEXT = Path("/work/shared/seed/000_7d319682c6b56a76.txt")
+
+
+def _sweep(db, spec):
+    plan = prepare_sweep(spec, db, run_fn=SYNTH)
+    with SerialExecutor() as ex:
+        for _ in plan.execute(ex):
+            pass
+    plan.close()
+
+
+@pytest.fixture(scope="session")
+def report_db(tmp_path_factory):
+    d = tmp_path_factory.mktemp("report")
+    db = d / "all.sqlite"
+    _sweep(db, SweepSpec("case-d", (2, 3, 5, 6, 8, 9), (1, 2, 3), runs=4, limits="thesis",
+                         overrides={"raise_on_seed": 3}))
+    _sweep(db, SweepSpec("case-a", (5, 7, 8, 10), (1, 2, 3, 4, 5), runs=3, limits="thesis"))
+    _sweep(db, SweepSpec("large-void", (70,), (6, 7, 8), runs=3, limits="thesis"))
+    return db
+
+
+@pytest.fixture(scope="session")
+def small_db(tmp_path_factory):
+    db = tmp_path_factory.mktemp("small") / "small.sqlite"
+    _sweep(db, SweepSpec("case-a", (5, 7), (1, 2), runs=2, limits="thesis"))
+    return db
+
+
+@pytest.fixture(scope="session")
+def inputs(tmp_path_factory):
+    d = tmp_path_factory.mktemp("inputs")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    (d / "fem" / "plots").mkdir(parents=True)
+    (d / "fem" / "selection.md").write_text("# Structure selection\n\n| width | structure |\n|---|---|\n"
+                                            "| 1-4 | line |\n| 5-6 | arch |\n")
+    fig, ax = plt.subplots()
+    ax.plot([1, 2], [3, 4])
+    fig.savefig(d / "fem" / "plots" / "deflection.png")
+    (d / "cad").mkdir()
+    fig.savefig(d / "cad" / "cubot.png")
+    plt.close(fig)
+    return d
+
+
+@pytest.fixture(scope="session")
+def report(report_db, inputs, tmp_path_factory):
+    out = tmp_path_factory.mktemp("out") / "report"
+    res = build_report(report_db, out, fem_dir=inputs / "fem", cad_dir=inputs / "cad", limits="thesis")
+    return out, res
+
+
+class _Imgs(HTMLParser):
+    def __init__(self):
+        super().__init__()
+        self.srcs = []
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "img":
+            self.srcs.append(dict(attrs).get("src"))
+
+
+def _img_srcs(html_path: Path) -> list[str]:
+    p = _Imgs()
+    p.feed(html_path.read_text())
+    return p.srcs
+
+
+def test_every_img_in_the_html_exists_on_disk(report):
+    out, res = report
+    srcs = _img_srcs(out / "index.html")
+    assert len(srcs) == res["figures"] >= 20
+    for s in srcs:
+        assert s and not s.startswith(("/", "http")), s  # relative: the report can be moved
+        f = out / s
+        assert f.is_file() and f.stat().st_size > 1000 and f.read_bytes()[:4] == b"\x89PNG", s
+    md = (out / "report.md").read_text()
+    md_srcs = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", md)
+    assert sorted(md_srcs) == sorted(srcs)
+
+
+def test_sections_and_no_data_notes(report):
+    out, res = report
+    html = (out / "index.html").read_text()
+    for needle in ("Structure limits: derived and thesis", "Case D (case-d)", "Case A (case-a)",
+                   "Tables 4.4-4.9", "Large voids", "cf. Fig. 4.39", "cf. Fig. 4.36", "cf. Fig. 5.9",
+                   "cf. Fig. 5.12", "Structure selection", "assets/fem/plots/deflection.png",
+                   "assets/cad/cubot.png", "derived limits", "thesis limits"):
+        assert needle in html, needle
+    # case-b has no runs: its thesis tables stand alone with a note saying so
+    assert "no case-b runs in this database" in html
+    # Fig. 5.13 has no separate assembly/disassembly time in the synthetic runs
+    assert "assembly/disassembly" in html
+    # the raised runs are listed
+    assert "synthetic failure for seed 3" in html and res["raised"] == 18
+
+
+def test_no_fem_or_cad_dirs_say_so(small_db, tmp_path):
+    res = build_report(small_db, tmp_path / "r")
+    html = (tmp_path / "r" / "index.html").read_text()
+    assert "no structure_fem output directory given" in html and "no CAD render directory given" in html
+    assert all((tmp_path / "r" / s).is_file() for s in _img_srcs(tmp_path / "r" / "index.html"))
+    assert res["no_data_notes"] >= 3
+
+
+def _cell(html: str, caption_start: str, row_label: str, col: int) -> str:
+    table = html.split(caption_start, 1)[1].split("</table>", 1)[0]
+    row = table.split(f"<td>{row_label}</td>", 1)[1].split("</tr>", 1)[0]
+    return re.findall(r"<td>([^<]*)</td>", row)[col]
+
+
+def test_ours_beside_thesis_is_computed_from_the_db(report, report_db):
+    out, _ = report
+    html = (out / "index.html").read_text()
+    con = sqlite3.connect(report_db)
+    mean_ta = con.execute("SELECT AVG(t_a) FROM runs WHERE preset='case-a' AND robots=5 AND void_width=1 "
+                          "AND status='ok'").fetchone()[0]
+    con.close()
+    cell = _cell(html, "Thesis Table 4.4", "12 cm (1)", 0)
+    assert cell == f"{mean_ta:.0f} / 54"
+    # Table 4.5: the thesis prints '-' where case A crossed
+    assert _cell(html, "Thesis Table 4.5", "12 cm (1)", 3).endswith("/ –")
+
+
+def test_report_moves_when_the_data_moves(small_db, tmp_path):
+    db = tmp_path / "m.sqlite"
+    shutil.copy(small_db, db)
+    con = sqlite3.connect(db)
+    con.execute("UPDATE runs SET t_a = t_a + 1000 WHERE preset='case-a' AND robots=5 AND void_width=1")
+    con.commit()
+    con.close()
+    build_report(db, tmp_path / "r")
+    html = (tmp_path / "r" / "index.html").read_text()
+    first = int(_cell(html, "Thesis Table 4.4", "12 cm (1)", 0).split(" / ")[0])
+    assert first > 1000
+
+
+def test_observed_boundary_follows_the_runs(report):
+    out, _ = report
+    html = (out / "index.html").read_text()
+    # synthetic runs cross iff N >= 3w: for 2-wide voids, 5 never crosses and 6 always does
+    t = html.split("case-d: observed crossing boundary", 1)[1].split("</table>", 1)[0]
+    rows = [re.findall(r"<td>([^<]*)</td>", r) for r in t.split("<tr>")]
+    rows = {r[0]: r[1:] for r in rows if r}
+    assert rows["1"][:3] == ["2", "3", "3"]
+    assert rows["2"][:3] == ["5", "6", "6"]
+    assert rows["3"][:3] == ["8", "9", "9"]
+
+
+def test_thesis_data_files_name_their_table_and_match_the_thesis_text():
+    tables = thesis_tables()
+    assert [t.number for t in tables] == ["4.4", "4.5", "4.6", "4.7", "4.8", "4.9"]
+    for (fname, number, _, _), t in zip(THESIS_TABLES, tables, strict=True):
+        assert t.title.startswith(f"Thesis Table {number}:"), fname
+        assert len(t.widths()) == 5 and len(t.values) == 5 * len(t.robots)
+    if not THESIS_TEXT.exists():
+        pytest.skip(f"thesis text not at {THESIS_TEXT}")
+    text = THESIS_TEXT.read_text()
+    for t in tables:
+        chunk = text.split(f"Table {t.number}:", 1)[1][:1500]
+        for w in t.widths():
+            m = re.search(rf"^{t.void_cm[w]}(?:cm)? ((?:[-\d]+ ?)+)$", chunk, flags=re.M)
+            assert m, (t.number, w)
+            printed = [None if c == "-" else float(c) for c in m.group(1).split()]
+            assert printed == [t.values[(n, w)] for n in t.robots], (t.number, w)
+
+
+def test_report_cli_and_bad_db(cli, small_db, tmp_path):
+    res = cli("report", "--db", str(small_db), "--out", str(tmp_path / "rep"), "--json")
+    assert res.code == 0, res.err
+    assert Path(res.json()["html"]).is_file()
+    res = cli("report", "--db", str(tmp_path / "missing.sqlite"), "--out", str(tmp_path / "rep2"))
+    assert res.code == 2 and len(res.error_lines) == 1 and not (tmp_path / "rep2").exists()
+
+
+CHROMIUM = shutil.which("chromium") or ("/usr/bin/chromium" if Path("/usr/bin/chromium").exists() else None)
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="Debian chromium is not installed (/usr/bin/chromium missing)")
+def test_report_loads_in_headless_chromium_with_no_missing_image(report):
+    out, _ = report
+    js = ("<script>window.onload=function(){var bad=[];for(const i of document.images){"
+          "if(!i.complete||i.naturalWidth===0)bad.push(i.getAttribute('src'))}"
+          "document.title='IMAGES:'+document.images.length+':BROKEN:'+bad.length+':'+bad.join(',')}</script>")
+    probe = out / "_probe.html"
+    probe.write_text((out / "index.html").read_text().replace("loading=\"lazy\"", "").replace("</body>", js + "</body>"))
+    with tempfile.TemporaryDirectory() as prof:
+        res = subprocess.run(
+            [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+             "--no-first-run", f"--user-data-dir={prof}", "--virtual-time-budget=10000", "--dump-dom",
+             probe.as_uri()], capture_output=True, text=True, timeout=90)
+    probe.unlink()
+    m = re.search(r"<title>IMAGES:(\d+):BROKEN:(\d+):([^<]*)</title>", res.stdout)
+    assert m, res.stderr[-2000:]
+    assert int(m.group(1)) >= 20 and m.group(2) == "0", m.group(3)

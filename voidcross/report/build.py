@@ -1,0 +1,308 @@
+"""Build the report: one static HTML page and one Markdown file, every figure as a PNG beside them.
+
+Everything shown is computed from the results database (and the fem/cad
+output directories) on every build; the thesis's values come from the data
+files in ``thesis_data/`` and are always labelled as the thesis's.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+import time
+from pathlib import Path
+
+from . import figures as F
+from .data import RunSet, by_point, grid, load_runs, metric_values, summary
+from .document import Figure, MarkdownText, Note, Para, Section, Table, to_html, to_markdown
+from .thesis import thesis_tables
+
+CASE_NAMES = {"case-a": "Case A", "case-b": "Case B", "case-c": "Case C", "case-d": "Case D"}
+#: thesis figure numbers per preset: (times Tt,Ts,Ta,Td,To), seed ids, seed positions, target finder
+FIG_REFS = {
+    "case-a": (None, "Fig. 4.13", None, None),
+    "case-b": (None, "Fig. 4.18", None, None),
+    "case-c": (("4.31", "4.32", "4.33", "4.34", "4.35"), "Fig. 4.23", "Fig. 4.24", "Fig. 4.26"),
+    "case-d": (("4.39", "4.40", "4.41", "4.42", "4.43"), "Fig. 4.36", "Fig. 4.37", "Fig. 4.38"),
+}
+TIME_FIG_METRICS = ("Tt", "Ts", "Ta", "Td", "To")
+MAX_ASSETS = 80
+
+
+def _write_atomic(path: Path, text: str) -> None:
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    with os.fdopen(fd, "w") as fh:
+        fh.write(text)
+    os.replace(tmp, path)
+
+
+def _fmt(v, digits: int = 0) -> str:
+    return "–" if v is None else f"{v:.{digits}f}"
+
+
+# ------------------------------------------------------------------ limits
+def limits_sets(limits: str | os.PathLike | None) -> tuple[dict, list[str]]:
+    """{"derived": StructureLimits, "thesis": ...} and notes on what was unavailable."""
+    from structure_fem.errors import InputError as FemInputError
+    from structure_fem.limits import load_limits, thesis_limits
+
+    out, notes = {}, []
+    spec = str(limits) if limits else "derived"
+    try:
+        out["derived"] = load_limits(spec)
+    except FemInputError as exc:
+        notes.append(f"derived limits unavailable ({exc})")
+    out["thesis"] = thesis_limits()
+    return out, notes
+
+
+def _limits_section(limits: dict, notes: list[str], fig_dir: Path, rel: str) -> Section:
+    sec = Section("Structure limits: derived and thesis")
+    sec.add(Para("Which structure spans which void and the smallest swarm that may launch it. `derived` is "
+                 "computed by structure_fem from the robots' mechanics (the default for simulations); "
+                 "`thesis` is the thesis's own rule (switch every 5 robot widths, N = 3 n_g for a line), "
+                 "kept to reproduce its experiments. Both are shown; they are never blended."))
+    for n in notes:
+        sec.add(Note(n))
+    for label, lim in limits.items():
+        rows = []
+        for lvl in lim.levels:
+            defl = "–" if lvl.max_deflection_mm is None else f"{lvl.max_deflection_mm:.2f}"
+            tip = "–" if lvl.min_tipping_factor is None else f"{lvl.min_tipping_factor:.2f}"
+            mr = lvl.min_robots
+            rows.append([lvl.name, lvl.kind, f"{lvl.lines} x {lvl.layers}",
+                         f"{lvl.min_span_widths}-{lvl.max_span_widths}",
+                         f"{mr[0]}" + (f"-{mr[-1]}" if len(mr) > 1 else ""), defl, tip])
+        sec.add(Table(["structure", "kind", "lines x layers", "void widths", "N_min", "sag at widest (mm)",
+                       "tipping factor"], rows,
+                      f"{label} limits (source {lim.source}, robot {lim.robot}, clearance {lim.clearance_mm:g} mm)"))
+    if len(limits) >= 1:
+        F.limits_plot(limits, fig_dir / "limits.png")
+        sec.add(Figure(f"{rel}/limits.png", "Minimum swarm size per void width, derived and thesis limits"))
+    return sec
+
+
+def boundaries_for(preset: str, limits: dict, widths: list[int]) -> dict[str, dict[int, int]]:
+    """N_min per width for each set of limits; case A adds its stricter +2 (N = 3 n_g + 2)."""
+    margin = 2 if preset == "case-a" else 0
+    out = {}
+    for label, lim in limits.items():
+        out[label] = {w: lim.min_robots(w) + margin for w in widths if w <= lim.max_span_widths}
+    return out
+
+
+# ------------------------------------------------------------------ per preset
+def _mean_table(runs, metric: str, robots: list[int], widths: list[int], caption: str) -> Table:
+    pts = by_point(runs)
+    rows = []
+    for w in widths:
+        row = [str(w)]
+        for n in robots:
+            s = summary(metric_values(pts.get((n, w), []), metric))
+            row.append(_fmt(s["mean"]) if s else "–")
+        rows.append(row)
+    return Table(["void width \\ N"] + [str(n) for n in robots], rows, caption)
+
+
+def _preset_section(preset: str, rs: RunSet, limits: dict, fig_dir: Path, rel: str) -> Section:
+    runs = rs.of(preset)
+    title = f"{CASE_NAMES.get(preset, preset)} ({preset})"
+    sec = Section(title)
+    errors = [e for e in rs.errors if e["preset"] == preset]
+    if not runs:
+        sec.add(Note(f"no completed {preset} runs ({len(errors)} raised)."))
+        return sec
+    robots, widths = grid(runs)
+    lost = sum(r.robots_lost for r in runs)
+    timed_out = sum(r.timed_out for r in runs)
+    used = sorted({r.limits for r in runs})
+    sec.add(Para(f"{len(runs)} runs ({len(errors)} raised, {timed_out} hit the time limit), swarm sizes "
+                 f"{robots[0]}-{robots[-1]}, void widths {widths[0]}-{widths[-1]}, limits used: "
+                 f"{', '.join(used)}. Robots lost over all runs: **{lost}** (must be 0)."))
+    bnd = boundaries_for(preset, limits, widths)
+    name = preset.replace("/", "_")
+    F.success_matrix(runs, fig_dir / f"{name}-success.png", preset, bnd)
+    sec.add(Figure(f"{rel}/{name}-success.png",
+                   f"{preset}: success matrix (swarm size x void width); lines: minimum swarm of each set of limits"))
+    # observed boundary vs rules
+    pts = by_point(runs)
+    rows = []
+    for w in widths:
+        always = [n for n in robots if pts.get((n, w)) and all(r.success for r in pts[(n, w)])]
+        never = [n for n in robots if pts.get((n, w)) and not any(r.success for r in pts[(n, w)])]
+        rows.append([str(w), str(max(never)) if never else "–", str(min(always)) if always else "–"]
+                    + [str(bnd[k].get(w, "–")) for k in bnd])
+    sec.add(Table(["void width", "largest N never crossing", "smallest N always crossing"]
+                  + [f"N_min ({k})" for k in bnd], rows, f"{preset}: observed crossing boundary against the rules"))
+    # mean time tables
+    sec.add(Para("Mean times in simulated seconds (the equivalents of Tables 4.4-4.9; T_d over runs that "
+                 "retreated only, as the thesis's 'when the structure fails')."))
+    for metric in ("Ta", "Td", "Tt"):
+        sec.add(_mean_table(runs, metric, robots, widths, f"{preset}: mean {metric} (s)"))
+    # times vs swarm size
+    refs = FIG_REFS.get(preset, (None, None, None, None))
+    for k, metric in enumerate(TIME_FIG_METRICS):
+        ref = f"cf. Fig. {refs[0][k]}" if refs[0] else "mean and 25/75 %"
+        fn = f"{name}-time-{metric}.png"
+        if F.times_vs_size(runs, metric, fig_dir / fn, preset, ref):
+            sec.add(Figure(f"{rel}/{fn}", f"{preset}: {F.METRIC_NAMES[metric]} vs swarm size, mean and 25/75 % ({ref})"))
+        else:
+            sec.add(Note(f"{preset}: no run recorded {metric} (e.g. no run retreated / crossed)."))
+    for attr, what, ref in (("seed_robot", "seed-robot id frequency", refs[1]),
+                            ("target_finder", "target-finder id frequency", refs[3])):
+        fn = f"{name}-{attr}.png"
+        if F.id_frequency(runs, attr, fig_dir / fn, preset, what + (f" (cf. {ref})" if ref else "")):
+            sec.add(Figure(f"{rel}/{fn}", f"{preset}: {what} per swarm size and void width"
+                           + (f" (cf. {ref})" if ref else "")))
+        else:
+            sec.add(Note(f"{preset}: no {what.split(' id')[0]} recorded."))
+    fn = f"{name}-seed-positions.png"
+    if F.seed_positions(runs, fig_dir / fn, preset, f"cf. {refs[2]}" if refs[2] else "all runs"):
+        sec.add(Figure(f"{rel}/{fn}", f"{preset}: seed robot positions" + (f" (cf. {refs[2]})" if refs[2] else "")))
+    else:
+        sec.add(Note(f"{preset}: no seed position recorded."))
+    return sec
+
+
+def _thesis_tables_section(rs: RunSet) -> Section:
+    sec = Section("Tables 4.4-4.9: the thesis beside ours")
+    sec.add(Para("Each cell: ours / thesis, mean seconds. The thesis's values are read from "
+                 "`voidcross/report/thesis_data/*.csv` (one file per table, naming it); ours are recomputed "
+                 "from the database. Void widths in robot widths (12 cm robots in cases A and B)."))
+    for t in thesis_tables():
+        runs = rs.of(t.preset)
+        pts = by_point(runs)
+        rows = []
+        for w in t.widths():
+            row = [f"{t.void_cm[w]} cm ({w})"]
+            for n in t.robots:
+                s = summary(metric_values(pts.get((n, w), []), t.metric))
+                row.append(f"{_fmt(s['mean']) if s else '–'} / {_fmt(t.values[(n, w)])}")
+            rows.append(row)
+        sec.add(Table(["void \\ N"] + [str(n) for n in t.robots], rows, f"{t.title} [file {t.path.name}]"))
+        if not runs:
+            sec.add(Note(f"no {t.preset} runs in this database, so only the thesis's column is filled "
+                         f"(`voidcross sweep --preset {t.preset} --robots {','.join(map(str, t.robots))} "
+                         f"--void-width 1-5 --runs 30 --limits thesis --db ...`)."))
+    return sec
+
+
+def _large_void_section(rs: RunSet, fig_dir: Path, rel: str) -> Section:
+    sec = Section("Large voids (Fig. 5.9-5.13 equivalents)")
+    large = [p for p in rs.presets() if p.startswith("large")]
+    if not large:
+        sec.add(Note("no large-void runs in this database (`voidcross sweep --preset large-void --robots 70 "
+                     "--void-width 6-10 --runs 10 --db ...`)."))
+        return sec
+    for preset in large:
+        runs = rs.of(preset)
+        if not runs:
+            sec.add(Note(f"no completed {preset} runs."))
+            continue
+        name = preset.replace("/", "_")
+        sec.add(Para(f"{preset}: {len(runs)} runs, swarm sizes {sorted({r.robots for r in runs})}, void widths "
+                     f"{sorted({r.void_width for r in runs})}, crossed {sum(r.success for r in runs)}, "
+                     f"robots lost {sum(r.robots_lost for r in runs)}."))
+        if F.large_void_ids(runs, fig_dir / f"{name}-ids.png", preset):
+            sec.add(Figure(f"{rel}/{name}-ids.png", f"{preset}: seed and target-finder ids (cf. Fig. 5.9)"))
+        if F.large_void_seed_edge(runs, fig_dir / f"{name}-edge.png", preset):
+            sec.add(Figure(f"{rel}/{name}-edge.png", f"{preset}: seed position along the edge (cf. Fig. 5.10)"))
+        F.large_void_times(runs, [("T_t", "Tt")], fig_dir / f"{name}-tt.png",
+                           f"{preset}: total simulation time (cf. Fig. 5.11)")
+        sec.add(Figure(f"{rel}/{name}-tt.png", f"{preset}: total time vs void width (cf. Fig. 5.11)"))
+        F.large_void_times(runs, [("(a) T_s initial exploration", "Ts"), ("(b) T_a construction", "Ta"),
+                                  ("(c) T_o target exploration", "To")], fig_dir / f"{name}-phases.png",
+                           f"{preset}: time per phase (cf. Fig. 5.12)")
+        sec.add(Figure(f"{rel}/{name}-phases.png", f"{preset}: T_s, T_a, T_o vs void width (cf. Fig. 5.12)"))
+        has = F.large_void_times(runs, [("(a) assembly", "extra:assembly"), ("(b) disassembly", "extra:disassembly")],
+                                 fig_dir / f"{name}-asm.png", f"{preset}: assembly and disassembly (cf. Fig. 5.13)")
+        if has:
+            sec.add(Figure(f"{rel}/{name}-asm.png", f"{preset}: assembly and disassembly time (cf. Fig. 5.13)"))
+        else:
+            sec.add(Note(f"{preset}: the runs do not record separate assembly/disassembly times "
+                         "(Fig. 5.13); T_a above covers both."))
+    return sec
+
+
+def _copy_assets(src_dir: Path | None, out: Path, sub: str, what: str, title: str) -> Section:
+    sec = Section(title)
+    if not src_dir:
+        sec.add(Note(f"no {what} directory given (--{sub}-dir, or run the pipeline's {sub} stage)."))
+        return sec
+    src_dir = Path(src_dir)
+    if not src_dir.is_dir():
+        sec.add(Note(f"{what} directory {src_dir} does not exist."))
+        return sec
+    mds = sorted(p for p in src_dir.rglob("*.md") if p.is_file())
+    pngs = sorted(p for p in src_dir.rglob("*.png") if p.is_file())
+    if not mds and not pngs:
+        sec.add(Note(f"{src_dir} holds no .md or .png files."))
+        return sec
+    sec.add(Para(f"Included from `{src_dir}`: {len(mds)} Markdown file(s), {len(pngs)} image(s)."))
+    for md in mds:
+        sec.add(MarkdownText(md.read_text(errors="replace"), str(md.relative_to(src_dir))))
+    dst_root = out / "assets" / sub
+    for p in pngs[:MAX_ASSETS]:
+        rel = p.relative_to(src_dir)
+        dst = dst_root / rel
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(p, dst)
+        sec.add(Figure(f"assets/{sub}/{rel.as_posix()}", f"{what}: {rel.as_posix()}"))
+    if len(pngs) > MAX_ASSETS:
+        sec.add(Para(f"... {len(pngs) - MAX_ASSETS} more images in `{src_dir}` not copied."))
+    return sec
+
+
+def _errors_section(rs: RunSet) -> Section:
+    sec = Section("Runs that raised")
+    if not rs.errors:
+        sec.add(Para("None: every stored run completed."))
+        return sec
+    rows = []
+    for e in rs.errors[:30]:
+        last = (e.get("error") or "").strip().splitlines()[-1:] or [""]
+        rows.append([e["preset"], str(e["robots"]), str(e["void_width"]), str(e["seed"]), last[0][:160]])
+    sec.add(Table(["preset", "N", "void width", "seed", "error"], rows,
+                  f"{len(rs.errors)} run(s) raised (first 30; full tracebacks: voidcross sweep status --json)"))
+    return sec
+
+
+def build_report(db, out, fem_dir=None, cad_dir=None, limits=None) -> dict:
+    """Write ``out/index.html``, ``out/report.md`` and ``out/figures/*.png``; returns paths and counts."""
+    rs = load_runs(db)  # validates the database first (InputError, nothing written)
+    out = Path(out)
+    fig_dir = out / "figures"
+    fig_dir.mkdir(parents=True, exist_ok=True)
+    for old in fig_dir.glob("*.png"):
+        old.unlink()
+    rel = "figures"
+    lims, notes = limits_sets(limits)
+    presets = rs.presets()
+    intro = [Para(f"Generated {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} from `{db}`: "
+                  f"{len(rs.runs)} completed runs, {len(rs.errors)} raised, presets: "
+                  f"{', '.join(presets) or 'none'}. Times are simulated seconds.")]
+    if rs.sweeps:
+        intro.append(Table(["sweep", "started (UTC)", "planned runs", "spec"],
+                           [[s["sweep_id"], s["created_utc"], str(s["runs_planned"]),
+                             ", ".join(f"{k}={v}" for k, v in sorted(s["spec"].items()))] for s in rs.sweeps],
+                           "sweeps recorded in the database"))
+    sections = [_limits_section(lims, notes, fig_dir, rel)]
+    small = [p for p in presets if not p.startswith("large")]
+    if not small:
+        sections.append(Section("Small voids (cases A-D)").add(Note("no small-void runs in this database.")))
+    sections += [_preset_section(p, rs, lims, fig_dir, rel) for p in small]
+    sections.append(_thesis_tables_section(rs))
+    sections.append(_large_void_section(rs, fig_dir, rel))
+    sections.append(_copy_assets(fem_dir, out, "fem", "structure_fem output",
+                                 "Structure selection and deflection (structure_fem)"))
+    sections.append(_copy_assets(cad_dir, out, "cad", "CAD render", "Robot and connector renders (cubot_cad)"))
+    sections.append(_errors_section(rs))
+    title = "voidcross report"
+    html_path, md_path = out / "index.html", out / "report.md"
+    _write_atomic(html_path, to_html(title, intro, sections))
+    _write_atomic(md_path, to_markdown(title, intro, sections))
+    n_fig = sum(isinstance(b, Figure) for s in sections for b in s.blocks)
+    n_empty = sum(isinstance(b, Note) for s in sections for b in s.blocks)
+    return {"html": str(html_path), "markdown": str(md_path), "figures": n_fig, "no_data_notes": n_empty,
+            "runs": len(rs.runs), "raised": len(rs.errors), "presets": presets}

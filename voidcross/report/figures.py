@@ -1,0 +1,241 @@
+"""Matplotlib figures of the report (Agg backend, PNG). Each returns nothing and writes ``path``.
+
+Times are simulated seconds; positions centimetres; robot ids as the simulator numbers them.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .data import Run, by_point, grid, metric_values, summary  # noqa: E402
+
+DPI = 90
+METRIC_NAMES = {
+    "Tt": "total simulation time T_t", "Ts": "initial-zone exploration T_s",
+    "Ta": "assembly and moving forward T_a", "Td": "retreat and disassembly T_d",
+    "To": "target-zone exploration T_o", "Tb": "exploration after retreat T_b",
+}
+
+
+def _save(fig, path: Path) -> None:
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+
+
+def success_matrix(runs: list[Run], path: Path, preset: str, boundaries: dict[str, dict[int, int]]) -> None:
+    """Fraction of runs that crossed, swarm size x void width, with the minimum swarm each
+    set of limits requires drawn as a step line (``boundaries``: label -> {width: N_min})."""
+    robots, widths = grid(runs)
+    pts = by_point(runs)
+    m = np.full((len(robots), len(widths)), np.nan)
+    for i, n in enumerate(robots):
+        for j, w in enumerate(widths):
+            rs = pts.get((n, w))
+            if rs:
+                m[i, j] = np.mean([r.success for r in rs])
+    fig, ax = plt.subplots(figsize=(1.6 + 1.1 * len(widths), 1.4 + 0.32 * len(robots)))
+    im = ax.imshow(m, origin="lower", aspect="auto", cmap="RdYlGn", vmin=0, vmax=1)
+    for i, n in enumerate(robots):
+        for j, w in enumerate(widths):
+            rs = pts.get((n, w))
+            if rs:
+                k = sum(r.success for r in rs)
+                ax.text(j, i, f"{k}/{len(rs)}", ha="center", va="center", fontsize=7)
+    styles = ["k-", "b--", "m:"]
+    for (label, b), st in zip(boundaries.items(), styles, strict=False):
+        xs, ys = [], []
+        for j, w in enumerate(widths):
+            if w in b:
+                # first row whose swarm size reaches N_min, drawn at the cell's lower edge
+                i = next((i for i, n in enumerate(robots) if n >= b[w]), len(robots))
+                xs += [j - 0.5, j + 0.5]
+                ys += [i - 0.5, i - 0.5]
+        if xs:
+            ax.plot(xs, ys, st, lw=2, label=f"N_min, {label} limits")
+    ax.set_xticks(range(len(widths)), [str(w) for w in widths])
+    ax.set_yticks(range(len(robots)), [str(n) for n in robots])
+    ax.set_xlabel("void width (robot widths)")
+    ax.set_ylabel("swarm size N")
+    ax.set_title(f"{preset}: runs that crossed")
+    fig.colorbar(im, ax=ax, fraction=0.05, label="fraction crossed")
+    if boundaries:
+        ax.legend(loc="upper left", fontsize=7, framealpha=0.8)
+    _save(fig, path)
+
+
+def times_vs_size(runs: list[Run], metric: str, path: Path, preset: str, fig_ref: str) -> bool:
+    """Mean and 25-75 % band of one time metric against swarm size, one panel per void width."""
+    robots, widths = grid(runs)
+    pts = by_point(runs)
+    any_data = False
+    fig, axes = plt.subplots(1, len(widths), figsize=(2.2 + 2.6 * len(widths), 3.0), squeeze=False,
+                             sharey=True)
+    for ax, w in zip(axes[0], widths, strict=True):
+        xs, mean, lo, hi = [], [], [], []
+        for n in robots:
+            s = summary(metric_values(pts.get((n, w), []), metric))
+            if s:
+                xs.append(n)
+                mean.append(s["mean"])
+                lo.append(s["q25"])
+                hi.append(s["q75"])
+        if xs:
+            any_data = True
+            ax.fill_between(xs, lo, hi, alpha=0.3, label="25-75 %")
+            ax.plot(xs, mean, "o-", ms=3, label="mean")
+            ax.plot(xs, lo, "_", color="C0")
+            ax.plot(xs, hi, "_", color="C0")
+        ax.set_title(f"{w}-wide void", fontsize=9)
+        ax.set_xlabel("swarm size N")
+        ax.grid(alpha=0.3)
+    axes[0][0].set_ylabel(f"{metric} (s)")
+    if axes[0][0].get_legend_handles_labels()[0]:
+        axes[0][0].legend(fontsize=7)
+    fig.suptitle(f"{preset}: {METRIC_NAMES[metric]} ({fig_ref})", fontsize=10)
+    _save(fig, path)
+    return any_data
+
+
+def id_frequency(runs: list[Run], attr: str, path: Path, preset: str, what: str) -> bool:
+    """How often each robot id was the seed / found the target: swarm size x robot id per width."""
+    robots, widths = grid(runs)
+    pts = by_point(runs)
+    max_id = max([getattr(r, attr) for r in runs if getattr(r, attr) is not None] + [max(robots) - 1, 0])
+    fig, axes = plt.subplots(1, len(widths), figsize=(1.5 + 3.0 * len(widths), 1.6 + 0.25 * len(robots)),
+                             squeeze=False)
+    any_data = False
+    im = None
+    for ax, w in zip(axes[0], widths, strict=True):
+        m = np.full((len(robots), max_id + 1), np.nan)
+        for i, n in enumerate(robots):
+            rs = pts.get((n, w), [])
+            if rs:
+                m[i, :n] = 0
+                for r in rs:
+                    v = getattr(r, attr)
+                    if v is not None:
+                        m[i, v] += 1
+                        any_data = True
+        im = ax.imshow(m, origin="lower", aspect="auto", cmap="viridis", interpolation="nearest")
+        ax.set_yticks(range(len(robots)), [str(n) for n in robots], fontsize=7)
+        ax.set_xlabel("robot id")
+        ax.set_title(f"{w}-wide void", fontsize=9)
+    axes[0][0].set_ylabel("swarm size N")
+    if im is not None:
+        fig.colorbar(im, ax=axes[0].tolist(), fraction=0.03, label="runs")
+    fig.suptitle(f"{preset}: {what}", fontsize=10)
+    fig.savefig(path, dpi=DPI, bbox_inches="tight")
+    plt.close(fig)
+    return any_data
+
+
+def seed_positions(runs: list[Run], path: Path, preset: str, fig_ref: str) -> bool:
+    pts = [(r.seed_xy, r.void_width) for r in runs if r.seed_xy is not None]
+    if not pts:
+        return False
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    widths = sorted({w for _, w in pts})
+    for k, w in enumerate(widths):
+        xy = np.array([p for p, ww in pts if ww == w])
+        ax.scatter(xy[:, 0], xy[:, 1], s=10, alpha=0.7, color=f"C{k}", label=f"{w}-wide void")
+    ax.set_xlabel("x (cm)")
+    ax.set_ylabel("y (cm)")
+    ax.set_title(f"{preset}: where the seed robot found the edge ({fig_ref})", fontsize=10)
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    _save(fig, path)
+    return True
+
+
+def large_void_ids(runs: list[Run], path: Path, preset: str) -> bool:
+    """Fig. 5.9 equivalent: seed-id and target-finder-id counts over all runs."""
+    seeds = [r.seed_robot for r in runs if r.seed_robot is not None]
+    finders = [r.target_finder for r in runs if r.target_finder is not None]
+    if not seeds and not finders:
+        return False
+    fig, axes = plt.subplots(2, 1, figsize=(8, 5), sharex=True)
+    for ax, vals, what in ((axes[0], seeds, "(a) seed robot"), (axes[1], finders, "(b) target finder")):
+        if vals:
+            ids, counts = np.unique(vals, return_counts=True)
+            ax.bar(ids, counts, width=0.8)
+        ax.set_ylabel("runs")
+        ax.set_title(what, fontsize=9)
+    axes[1].set_xlabel("robot id")
+    fig.suptitle(f"{preset}: which robots seed and find the target (cf. Fig. 5.9)", fontsize=10)
+    _save(fig, path)
+    return True
+
+
+def large_void_seed_edge(runs: list[Run], path: Path, preset: str) -> bool:
+    """Fig. 5.10 equivalent: seed position along the void edge (y) per void width."""
+    pts = [(r.void_width, r.seed_xy[1]) for r in runs if r.seed_xy is not None]
+    if not pts:
+        return False
+    a = np.array(pts, dtype=float)
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    ax.scatter(a[:, 0], a[:, 1], s=14, alpha=0.7)
+    ax.set_xlabel("void width (robot widths)")
+    ax.set_ylabel("seed y along the edge (cm)")
+    ax.set_title(f"{preset}: seed position at the void edge (cf. Fig. 5.10)", fontsize=10)
+    ax.grid(alpha=0.3)
+    _save(fig, path)
+    return True
+
+
+def large_void_times(runs: list[Run], metrics: list[tuple[str, str]], path: Path, title: str) -> bool:
+    """Figs. 5.11-5.13 equivalents: box plots of times against void width (one panel per metric).
+
+    ``metrics``: (label, key) where key is a time key or ``extra:<name>`` from the run's result."""
+    widths = sorted({r.void_width for r in runs})
+    fig, axes = plt.subplots(1, len(metrics), figsize=(1 + 3.6 * len(metrics), 3.2), squeeze=False)
+    any_data = False
+    for ax, (label, key) in zip(axes[0], metrics, strict=True):
+        data = []
+        for w in widths:
+            rs = [r for r in runs if r.void_width == w]
+            if key.startswith("extra:"):
+                name = key.split(":", 1)[1]
+                vals = [(r.extra.get("times") or {}).get(name, r.extra.get(name)) for r in rs]
+                vals = np.array([v for v in vals if isinstance(v, (int, float))], dtype=float)
+            else:
+                vals = metric_values(rs, key)
+            data.append(vals)
+        if any(len(d) for d in data):
+            any_data = True
+            ax.boxplot([d if len(d) else [np.nan] for d in data], whis=(0, 100))
+            ax.set_xticks(range(1, len(widths) + 1), [str(w) for w in widths])
+            ax.plot(range(1, len(widths) + 1), [d.mean() if len(d) else np.nan for d in data], "r^",
+                    ms=5, label="mean")
+        else:
+            ax.text(0.5, 0.5, "not recorded", ha="center", va="center", transform=ax.transAxes)
+        ax.set_title(label, fontsize=9)
+        ax.set_xlabel("void width (robot widths)")
+        ax.set_ylabel("s")
+        ax.grid(alpha=0.3)
+    fig.suptitle(title, fontsize=10)
+    _save(fig, path)
+    return any_data
+
+
+def limits_plot(limits: dict, path: Path, max_width: int = 30) -> None:
+    """Minimum swarm size per void width for each set of limits (log scale), structure bands shaded."""
+    fig, ax = plt.subplots(figsize=(7, 3.6))
+    for k, (label, lim) in enumerate(limits.items()):
+        ws = list(range(1, min(max_width, lim.max_span_widths) + 1))
+        ax.step(ws, [lim.min_robots(w) for w in ws], where="mid", color=f"C{k}", label=f"{label}")
+        for lvl in lim.levels:
+            ax.axvline(lvl.max_span_widths + 0.5, color=f"C{k}", ls=":", lw=0.8)
+    ax.set_yscale("log")
+    ax.set_xlabel("void width (robot widths)")
+    ax.set_ylabel("minimum swarm size N_min")
+    ax.set_title("Structure limits: minimum swarm per void width (dotted: structure switches)", fontsize=10)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3, which="both")
+    _save(fig, path)
