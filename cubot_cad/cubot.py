@@ -1,0 +1,313 @@
+"""CuBot (thesis Ch. 6.3.3): a cuboid robot <= 100 x 100 x 85 mm with three couplings.
+
+* front: two grooved-pin blocks (three pins in a triangle each); rear: two
+  engagement-latch blocks (triangular blade); docked front-to-rear with zero gap;
+* left: male dovetail rail, right: female rail (two CuBots slide side by side);
+* top: cover with the cross-hole collar and the locking key; underneath: the
+  cross key (twist and lock, clockwise);
+* two drive wheels (radius 21 mm, 70 mm apart), two 10 mm ball casters (a third
+  exposed), windows for 8 IR pairs and the two bottom-front edge detectors.
+
+Envelope: length x width x height excludes only what enters a docked
+neighbour (pins, dovetail tongue); the body, rails, cover, collar and locking
+key lie inside it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import ClassVar
+
+from . import couplings
+from .components import Component
+from .connectors import (
+    CasterSeat,
+    Cover,
+    CrossKey,
+    FrontRearSpec,
+    LockingKey,
+    RailFemale,
+    RailMale,
+    RailSpec,
+    TopTwistSpec,
+    latch_set_parts,
+    pin_set_parts,
+)
+from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, check_clearance, need
+from .robot import Placed, Robot
+
+ENVELOPE_MM = (100.0, 100.0, 85.0)
+
+
+def check_dims(obj, names: tuple[str, ...]) -> None:
+    for n in names:
+        v = getattr(obj, n)
+        need(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0,
+             f"{type(obj).__name__}.{n} must be a positive length in mm, got {v!r}")
+
+
+@dataclass(frozen=True)
+class CuBotBody(Part):
+    """Hollow printable body (open top, closed by the cover), robot frame."""
+
+    length_mm: float = 100.0
+    width_mm: float = 90.0
+    height_mm: float = 71.8
+    y_centre_mm: float = 2.0
+    wall_mm: float = 2.4
+    floor_mm: float = 3.0
+    wheel_radius_mm: float = 21.0
+    wheel_width_mm: float = 8.0
+    wheel_base_mm: float = 70.0
+    caster_x_mm: float = 38.0
+    block_y_mm: float = 22.0
+    block_z_mm: float = 30.0
+    rail_z_mm: float = 26.0
+    fr: FrontRearSpec = FrontRearSpec()
+    rail: RailSpec = RailSpec()
+    top: TopTwistSpec = TopTwistSpec()
+    clearance_mm: float = DEFAULT_CLEARANCE_MM
+    name: ClassVar[str] = "cubot_body"
+    description: ClassVar[str] = ("CuBot body: hollow shell, pin/latch holes, rail IR holes, 8 IR windows, "
+                                  "edge-detector windows, wheel slots, caster and key screw holes")
+
+    def validate(self) -> None:
+        self.wall_check("wall_mm", self.wall_mm)
+        self.wall_check("floor_mm", self.floor_mm)
+
+    def build(self):
+        from .shapes import Y, Z, box, cut_all, cyl
+
+        L, W, H, w, f = self.length_mm, self.width_mm, self.height_mm, self.wall_mm, self.floor_mm
+        yc = self.y_centre_mm
+        y0, y1 = yc - W / 2, yc + W / 2
+        shell = box(-L / 2, L / 2, y0, y1, 0, H).cut(box(-L / 2 + w, L / 2 - w, y0 + w, y1 - w, f, H + 1))
+        cut = []
+        fr = self.fr
+        for yb in (yc - self.block_y_mm, yc + self.block_y_mm):
+            for sgn in (1, -1):  # front pin blocks, rear latch blocks (patterns are symmetric in y)
+                for t in fr.wall_cutters():
+                    t = t.moved(_loc((sgn * L / 2, yb, self.block_z_mm), 0 if sgn > 0 else 180))
+                    cut.append(t)
+        # rail IR holes through the side walls
+        for x, z in self.rail.ir_points():
+            cut.append(cyl(self.rail.ir_hole_mm / 2, W + 2, (x, y0 - 1, self.rail_z_mm + z), Y))
+        # 8 IR LED/photodiode pair windows, two per face, near the top
+        zi = H - 10.0
+        for d in (-25.0, 25.0):
+            cut.append(box(-L / 2 - 1, -L / 2 + w + 1, yc + d - 5, yc + d + 5, zi - 2.5, zi + 2.5))
+            cut.append(box(L / 2 - w - 1, L / 2 + 1, yc + d - 5, yc + d + 5, zi - 2.5, zi + 2.5))
+            cut.append(box(d - 5, d + 5, y0 - 1, y0 + w + 1, zi - 2.5, zi + 2.5))
+            cut.append(box(d - 5, d + 5, y1 - w - 1, y1 + 1, zi - 2.5, zi + 2.5))
+        # floor: wheel slots, edge detectors, key IR + screws, caster screws
+        r = self.wheel_radius_mm + 1.5
+        for yw in (-self.wheel_base_mm / 2, self.wheel_base_mm / 2):
+            a = self.wheel_width_mm / 2 + 1.5
+            cut.append(box(-r, r, yw - a, yw + a, -1, f + 1))
+        xe = L / 2 - w - 6
+        for ye in (yc - 30, yc + 30):
+            cut.append(box(xe - 3, xe + 3, ye - 2, ye + 2, -1, f + 1))
+        cut.append(cyl(2.0, f + 2, (0, yc, -1), Z))
+        s = self.top.flange_size_mm / 2 - 4
+        cut += [cyl(1.7, f + 2, (x, yc + y, -1), Z) for x in (-s, s) for y in (-s, s)]
+        cut += [cyl(1.7, f + 2, (x, 0, -1), Z) for x in (-self.caster_x_mm, self.caster_x_mm)]
+        return cut_all(shell, cut)
+
+
+def _loc(xyz, rot_z=0.0):
+    from .shapes import location
+
+    return location(xyz, rot_z)
+
+
+@dataclass(frozen=True)
+class CuBot(Robot):
+    """Parametric CuBot; every dimension in mm with the thesis's value as default."""
+
+    length_mm: float = 100.0
+    width_mm: float = 100.0
+    height_mm: float = 85.0
+    wall_mm: float = 2.4
+    floor_mm: float = 3.0
+    wheel_radius_mm: float = 21.0
+    wheel_width_mm: float = 8.0
+    wheel_base_mm: float = 70.0
+    wheel_exposed_mm: float = 15.0
+    caster_ball_mm: float = 10.0
+    caster_x_mm: float = 38.0
+    block_y_mm: float = 22.0
+    block_z_mm: float = 30.0
+    rail_z_mm: float = 26.0
+    clearance_mm: float = DEFAULT_CLEARANCE_MM
+    fr: FrontRearSpec | None = field(default=None)
+    rail: RailSpec | None = field(default=None)
+    top: TopTwistSpec | None = field(default=None)
+
+    name: ClassVar[str] = "cubot"
+    title: ClassVar[str] = "CuBot"
+
+    def __post_init__(self) -> None:
+        check_clearance(self.clearance_mm, "clearance_mm")
+        check_dims(self, ("length_mm", "width_mm", "height_mm", "wall_mm", "floor_mm", "wheel_radius_mm",
+                          "wheel_width_mm", "wheel_base_mm", "wheel_exposed_mm", "caster_ball_mm",
+                          "caster_x_mm", "block_y_mm", "block_z_mm", "rail_z_mm"))
+        for n, lim in zip(("length_mm", "width_mm", "height_mm"), ENVELOPE_MM, strict=True):
+            need(getattr(self, n) <= lim,
+                 f"{n} {getattr(self, n):g} is outside the CuBot envelope "
+                 f"{ENVELOPE_MM[0]:g} x {ENVELOPE_MM[1]:g} x {ENVELOPE_MM[2]:g} mm")
+        need(self.wall_mm >= MIN_WALL_MM, f"wall_mm {self.wall_mm:g} is thinner than two nozzle widths ({MIN_WALL_MM:g} mm)")
+        need(self.floor_mm >= MIN_WALL_MM, f"floor_mm {self.floor_mm:g} is thinner than two nozzle widths ({MIN_WALL_MM:g} mm)")
+        fr, rail, top = self.fr_spec, self.rail_spec, self.top_spec
+        for spec, nm in ((fr, "fr"), (rail, "rail"), (top, "top")):
+            need(abs(spec.clearance_mm - self.clearance_mm) < 1e-12,
+                 f"{nm}.clearance_mm {spec.clearance_mm:g} differs from clearance_mm {self.clearance_mm:g} "
+                 "(one print clearance for every mating pair)")
+        need(abs(fr.wall_mm - self.wall_mm) < 1e-12, f"fr.wall_mm {fr.wall_mm:g} must equal wall_mm {self.wall_mm:g}")
+        W_b = self.body_width_mm
+        need(W_b >= 40, f"width_mm {self.width_mm:g} leaves a {W_b:g} mm body between the rails")
+        H_b = self.body_height_mm
+        half = fr.block_mm / 2
+        need(self.block_z_mm - half >= self.floor_mm and self.block_z_mm + half <= H_b - 15,
+             f"block_z_mm {self.block_z_mm:g} puts the {fr.block_mm:g} mm connector blocks outside the walls "
+             f"(body height {H_b:g} mm)")
+        need(self.block_y_mm + half <= W_b / 2 - self.wall_mm and self.block_y_mm >= half,
+             f"block_y_mm {self.block_y_mm:g}: the {fr.block_mm:g} mm blocks do not fit side by side "
+             f"inside the {W_b:g} mm body")
+        need(self.wheel_exposed_mm < self.wheel_radius_mm,
+             f"wheel_exposed_mm {self.wheel_exposed_mm:g} must be less than wheel_radius_mm {self.wheel_radius_mm:g}")
+        need(self.wheel_base_mm / 2 + self.wheel_width_mm / 2 + 1.5 <= W_b / 2 - self.wall_mm - abs(self.y_centre_mm),
+             f"wheel_base_mm {self.wheel_base_mm:g} puts the wheels into the side walls (body {W_b:g} mm wide)")
+        need(self.length_mm / 2 - fr.latch_depth_mm - fr.rear_plate_mm >= self.wheel_radius_mm + 1.5,
+             f"wheel_radius_mm {self.wheel_radius_mm:g} collides with the connector stacks (length_mm {self.length_mm:g})")
+        need(self.rail_z_mm - rail.height_mm / 2 >= 0 and self.rail_z_mm + rail.height_mm / 2 <= H_b - 15,
+             f"rail_z_mm {self.rail_z_mm:g} puts the {rail.height_mm:g} mm rails outside the side walls")
+        need(rail.length_mm <= self.length_mm, f"rail.length_mm {rail.length_mm:g} exceeds length_mm {self.length_mm:g}")
+        need(H_b >= 40, f"height_mm {self.height_mm:g} leaves only {H_b:g} mm of body under the cover/collar")
+        CasterSeat(ball_diameter_mm=self.caster_ball_mm, wheel_exposed_mm=self.wheel_exposed_mm,
+                   clearance_mm=self.clearance_mm)  # validates the caster against the wheels
+
+    # -- derived dimensions ---------------------------------------------------------
+    @cached_property
+    def fr_spec(self) -> FrontRearSpec:
+        return self.fr or FrontRearSpec(wall_mm=self.wall_mm, clearance_mm=self.clearance_mm)
+
+    @cached_property
+    def rail_spec(self) -> RailSpec:
+        return self.rail or RailSpec(clearance_mm=self.clearance_mm)
+
+    @cached_property
+    def top_spec(self) -> TopTwistSpec:
+        return self.top or TopTwistSpec(stand_mm=self.wheel_exposed_mm, clearance_mm=self.clearance_mm)
+
+    @property
+    def body_width_mm(self) -> float:
+        return self.width_mm - self.rail_spec.plate_mm - self.rail_spec.female_mm
+
+    @property
+    def y_centre_mm(self) -> float:
+        """Body centre in y (the female rail is thicker, so the body sits off-centre)."""
+        return (self.rail_spec.female_mm - self.rail_spec.plate_mm) / 2
+
+    @property
+    def body_height_mm(self) -> float:
+        return self.height_mm - self.top_spec.top_mm
+
+    @property
+    def envelope_mm(self):
+        return (self.length_mm, self.width_mm, self.height_mm)
+
+    @property
+    def block_ys_mm(self) -> tuple[float, float]:
+        return (self.y_centre_mm - self.block_y_mm, self.y_centre_mm + self.block_y_mm)
+
+    @cached_property
+    def body(self) -> CuBotBody:
+        return CuBotBody(length_mm=self.length_mm, width_mm=self.body_width_mm, height_mm=self.body_height_mm,
+                         y_centre_mm=self.y_centre_mm, wall_mm=self.wall_mm, floor_mm=self.floor_mm,
+                         wheel_radius_mm=self.wheel_radius_mm, wheel_width_mm=self.wheel_width_mm,
+                         wheel_base_mm=self.wheel_base_mm, caster_x_mm=self.caster_x_mm,
+                         block_y_mm=self.block_y_mm, block_z_mm=self.block_z_mm, rail_z_mm=self.rail_z_mm,
+                         fr=self.fr_spec, rail=self.rail_spec, top=self.top_spec, clearance_mm=self.clearance_mm)
+
+    def build_placed(self, blades_locked: bool = False, key_turned: bool = False,
+                     with_locking_key: bool = True) -> list[Placed]:
+        from .shapes import location
+
+        L = self.length_mm
+        out = [Placed(self.body, location(), "body")]
+        for yb in self.block_ys_mm:
+            for part, offs in pin_set_parts(self.fr_spec):
+                for o in offs:
+                    role = "pin" if part.name.endswith("pin") else "pinset"
+                    out.append(Placed(part, location((L / 2 + o[0], yb + o[1], self.block_z_mm + o[2])), role))
+            for part, _offs in latch_set_parts(self.fr_spec, locked=blades_locked):
+                role = "blade" if "blade" in part.name else "latchset"
+                out.append(Placed(part, location((-L / 2, yb, self.block_z_mm), 180), role))
+        yc, W_b = self.y_centre_mm, self.body_width_mm
+        out.append(Placed(RailMale(spec=self.rail_spec), location((0, yc + W_b / 2, self.rail_z_mm)), "rail"))
+        out.append(Placed(RailFemale(spec=self.rail_spec), location((0, yc - W_b / 2, self.rail_z_mm), 180), "rail"))
+        H_b = self.body_height_mm
+        out.append(Placed(Cover(spec=self.top_spec, length_mm=L, width_mm=W_b), location((0, yc, H_b)), "cover"))
+        if with_locking_key:
+            out.append(Placed(LockingKey(spec=self.top_spec), location((0, yc, H_b)), "locking_key"))
+        out.append(Placed(CrossKey(spec=self.top_spec, turned=key_turned), location((0, yc, 0)), "cross_key"))
+        seat = CasterSeat(ball_diameter_mm=self.caster_ball_mm, wheel_exposed_mm=self.wheel_exposed_mm,
+                          clearance_mm=self.clearance_mm)
+        for x in (-self.caster_x_mm, self.caster_x_mm):
+            out.append(Placed(seat, location((x, 0, 0)), "caster_seat"))
+        return out
+
+    def pin_heights_mm(self) -> list[float]:
+        return [self.block_z_mm + z for _ in self.block_ys_mm for _y, z in self.fr_spec.pin_positions()]
+
+    def components(self) -> list[Component]:
+        yc, H_b, L = self.y_centre_mm, self.body_height_mm, self.length_mm
+        axle = self.wheel_radius_mm - self.wheel_exposed_mm
+        wb = self.wheel_base_mm / 2
+        ball_z = -self.wheel_exposed_mm + self.caster_ball_mm / 2
+        zi = H_b - 10
+        ir = [(L / 2 - 4, yc + d, zi) for d in (-25, 25)] + [(-L / 2 + 4, yc + d, zi) for d in (-25, 25)] + \
+             [(d, yc - self.body_width_mm / 2 + 4, zi) for d in (-25, 25)] + \
+             [(d, yc + self.body_width_mm / 2 - 4, zi) for d in (-25, 25)]
+        return [
+            Component("drive_motor", "micro metal gearmotor (N20 class) with bracket", 12.0,
+                      ((0.0, -wb + 13, axle + 4), (0.0, wb - 13, axle + 4)), (12.0, 26.0, 10.0), "box", "motor",
+                      (0.3, 0.3, 0.3)),
+            Component("wheel", f"drive wheel, {2 * self.wheel_radius_mm:g} mm, rubber tyre", 8.0,
+                      ((0.0, -wb, axle), (0.0, wb, axle)), (2 * self.wheel_radius_mm, self.wheel_width_mm),
+                      "cyl_y", "wheel", (0.1, 0.1, 0.1)),
+            Component("caster_ball", f"steel ball, {self.caster_ball_mm:g} mm", 4.1,
+                      ((-self.caster_x_mm, 0.0, ball_z), (self.caster_x_mm, 0.0, ball_z)),
+                      (self.caster_ball_mm,), "sphere", "caster", (0.7, 0.7, 0.75)),
+            Component("battery", "2S LiPo 7.4 V 800 mAh", 45.0, ((0.0, yc, self.floor_mm + 9.0),),
+                      (60.0, 30.0, 15.0), "box", "power", (0.8, 0.5, 0.1)),
+            Component("main_board", "ARM Cortex-M3 controller + motor drivers + CAN", 15.0,
+                      ((0.0, yc, H_b - 22.0),), (60.0, 50.0, 8.0), "box"),
+            Component("zigbee", "ZigBee module (XBee class)", 4.0, ((20.0, yc, H_b - 14.0),), (25.0, 25.0, 5.0)),
+            Component("ir_pair_board", "IR LED + photodiode pair board", 1.5, tuple(ir), (4.0, 12.0, 8.0)),
+            Component("latch_servo", "micro servo driving a latch blade", 4.3,
+                      tuple((-L / 2 + self.fr_spec.latch_depth_mm + 12, y, self.block_z_mm)
+                            for y in self.block_ys_mm), (18.0, 12.0, 16.0), "box", "motor", (0.3, 0.3, 0.3)),
+            Component("twist_servo", "micro servo turning the cross key", 4.3,
+                      ((0.0, yc, self.floor_mm + 26.0),), (12.0, 18.0, 16.0), "box", "motor", (0.3, 0.3, 0.3)),
+            Component("edge_detector", "IR reflective edge detector (bottom front)", 1.0,
+                      ((L / 2 - self.wall_mm - 6, yc - 30, self.floor_mm + 3), (L / 2 - self.wall_mm - 6, yc + 30, self.floor_mm + 3)),
+                      (6.0, 10.0, 4.0)),
+            Component("fasteners", "M3 screws and nuts (about 30)", 15.0, ((0.0, yc, H_b / 2),), (80.0, 80.0, 60.0),
+                      "box", "hardware", (0.6, 0.6, 0.6)),
+            Component("wiring", "wires and connectors", 10.0, ((0.0, yc, H_b / 2),), (60.0, 60.0, 40.0),
+                      "box", "hardware", (0.9, 0.2, 0.2)),
+        ]
+
+    def connector_properties(self, youngs_modulus_pa: float, gaps_mm: dict | None = None) -> tuple:
+        gaps = gaps_mm or {}
+        fr = self.fr_spec
+        return (
+            couplings.front_rear(fr, self.pin_heights_mm(), gaps.get("front_rear", fr.design_gap_mm),
+                                 youngs_modulus_pa, self.block_z_mm),
+            couplings.side_rail(self.rail_spec, youngs_modulus_pa, self.rail_z_mm),
+            couplings.top_twist(self.top_spec, youngs_modulus_pa, self.body_height_mm + self.top_spec.cover_mm,
+                                gaps.get("top_twist", self.top_spec.stand_mm)),
+        )

@@ -1,0 +1,82 @@
+"""Small solid-building helpers on top of OCC (via cadquery), millimetres.
+
+Boxes are given by their extents, cylinders by base point and axis, prisms by a
+2D outline extruded along an axis. Many cutters are fused into one compound and
+cut in a single boolean: that is what keeps a full robot body near a second.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+
+import cadquery as cq
+
+X = (1.0, 0.0, 0.0)
+Y = (0.0, 1.0, 0.0)
+Z = (0.0, 0.0, 1.0)
+
+
+def box(x0: float, x1: float, y0: float, y1: float, z0: float, z1: float) -> cq.Solid:
+    """Axis-aligned box between the given extents."""
+    return cq.Solid.makeBox(x1 - x0, y1 - y0, z1 - z0, cq.Vector(x0, y0, z0))
+
+
+def cyl(r: float, h: float, base: Sequence[float], axis: Sequence[float] = Z) -> cq.Solid:
+    """Cylinder of radius ``r`` and length ``h`` from ``base`` along ``axis``."""
+    return cq.Solid.makeCylinder(r, h, cq.Vector(*base), cq.Vector(*axis))
+
+
+def sphere(r: float, centre: Sequence[float]) -> cq.Solid:
+    return cq.Solid.makeSphere(r, cq.Vector(*centre), angleDegrees1=-90, angleDegrees2=90)
+
+
+def prism(outline: Sequence[tuple[float, float]], plane: str, offset: float, depth: float) -> cq.Solid:
+    """Extrude a closed 2D ``outline`` drawn in ``plane`` ("YZ", "XZ" or "XY") from
+    ``offset`` along the plane normal by ``depth`` (may be negative)."""
+    pts = []
+    for u, v in outline:
+        if plane == "YZ":
+            pts.append(cq.Vector(offset, u, v))
+        elif plane == "XZ":
+            pts.append(cq.Vector(u, offset, v))
+        else:
+            pts.append(cq.Vector(u, v, offset))
+    normal = {"YZ": X, "XZ": Y, "XY": Z}[plane]
+    wire = cq.Wire.makePolygon(pts, close=True)
+    return cq.Solid.extrudeLinear(wire, [], cq.Vector(*normal) * depth)
+
+
+def regular_polygon(n: int, across_flats: float, flats_on_axes: bool = True) -> list[tuple[float, float]]:
+    """Vertices of a regular ``n``-gon with the given across-flats size (flats facing the axes)."""
+    rc = across_flats / 2 / math.cos(math.pi / n)
+    start = math.pi / n if flats_on_axes else 0.0
+    return [(rc * math.cos(start + 2 * math.pi * i / n), rc * math.sin(start + 2 * math.pi * i / n))
+            for i in range(n)]
+
+
+def cut_all(base: cq.Shape, cutters: Iterable[cq.Shape]) -> cq.Shape:
+    tools = list(cutters)
+    return base.cut(*tools) if tools else base
+
+
+def fuse_all(shapes: Iterable[cq.Shape]) -> cq.Shape:
+    items = list(shapes)
+    if len(items) == 1:
+        return items[0]
+    return items[0].fuse(*items[1:]).clean()
+
+
+def rotated(shape: cq.Shape, axis: Sequence[float], deg: float, centre: Sequence[float] = (0, 0, 0)) -> cq.Shape:
+    c = cq.Vector(*centre)
+    return shape.rotate(c, c + cq.Vector(*axis), deg)
+
+
+def location(xyz: Sequence[float] = (0, 0, 0), rot_z_deg: float = 0.0, rot_x_deg: float = 0.0) -> cq.Location:
+    """A placement: rotate about x, then about z, then translate by ``xyz``."""
+    loc = cq.Location(cq.Vector(*xyz))
+    if rot_z_deg:
+        loc = loc * cq.Location(cq.Vector(0, 0, 0), cq.Vector(0, 0, 1), rot_z_deg)
+    if rot_x_deg:
+        loc = loc * cq.Location(cq.Vector(0, 0, 0), cq.Vector(1, 0, 0), rot_x_deg)
+    return loc
