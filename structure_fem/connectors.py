@@ -67,18 +67,20 @@ class Joint:
                        backlash_rad=self.backlash_rad * backlash)
 
 
-def dead_band_moment(theta: float, k: float, half_width: float) -> float:
+def dead_band_moment(theta: float, k: float, half_width: float, smoothing: float | None = None) -> float:
     """Moment (N m) of a rotational spring ``k`` with a smooth dead band of ``half_width`` rad.
 
     ``M = k/2 [(t - h) + sqrt((t - h)^2 + e^2)] + k/2 [(t + h) - sqrt((t + h)^2 + e^2)]``
-    with ``e = SMOOTHING * h``: zero at ``t = 0``, odd, and ``k (t -/+ h)``
-    outside the band to within ``k e^2 / (4 |t -/+ h|)``. Its slope at zero is
-    ``k (1 - h / sqrt(h^2 + e^2))`` ~ 0.005 k, which keeps the static Jacobian
-    regular without a separate regularising spring. ``h = 0`` is the plain spring.
+    with ``e = smoothing`` (default ``SMOOTHING * h``): zero at ``t = 0``, odd,
+    and ``k (t -/+ h)`` outside the band to within ``k e^2 / (4 |t -/+ h|)``;
+    at the band edge it carries ``k e / 2``, so the model picks ``e`` small
+    enough that this is a negligible moment (see ``model.solve``). Its slope at
+    zero, ``k (1 - h / sqrt(h^2 + e^2))``, keeps the Jacobian regular.
+    ``h = 0`` is the plain spring.
     """
     if half_width <= 0:
         return k * theta
-    e = SMOOTHING * half_width
+    e = SMOOTHING * half_width if smoothing is None else smoothing
     a = theta - half_width
     b = theta + half_width
     return 0.5 * k * (a + math.sqrt(a * a + e * e)) + 0.5 * k * (b - math.sqrt(b * b + e * e))

@@ -34,7 +34,7 @@ import numpy as np
 
 from cubot_cad.properties import RobotProperties
 
-from .connectors import ConnectorSet, dead_band_moment
+from .connectors import SMOOTHING, ConnectorSet, dead_band_moment
 from .errors import InputError, SolverFailure
 from .structures import GRAVITY, Layout, Structure, layout, tipping_factor
 
@@ -159,6 +159,7 @@ def solve(config: Config, robot: RobotProperties, conn: ConnectorSet | None = No
         cx, cz = lay.bodies[i].com_m
         return [p[0] - cx, p[1] - cz, 0.0]
 
+    sharpen: list[tuple[list[float], float]] = []  # dead bands to sharpen after the first solve
     for c in lay.couplings:
         ma = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[c.a], localPosition=local(c.a, c.point_m)))
         mb = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[c.b], localPosition=local(c.b, c.point_m)))
@@ -170,8 +171,14 @@ def solve(config: Config, robot: RobotProperties, conn: ConnectorSet | None = No
         kr = c.joint.rotational_nm_per_rad * c.count
         h = c.joint.backlash_rad
         if h > 0:
-            def uf(mbs_, t, item, u, v, k, d, off, _h=h):
-                return dead_band_moment(u, k, _h)
+            # Smooth over at most 1 % of one body's weight moment m g L at the band edge (k e / 2).
+            m0 = lay.bodies[c.a].mass_kg * GRAVITY * lay.length_m
+            e_final = min(SMOOTHING * h, 0.02 * m0 / kr)
+            e_now = [SMOOTHING * h]
+            sharpen.append((e_now, e_final))
+
+            def uf(mbs_, t, item, u, v, k, d, off, _h=h, _e=e_now):
+                return dead_band_moment(u, k, _h, _e[0])
             mbs.AddObject(ObjectConnectorCoordinateSpringDamper(markerNumbers=[ra, rb], stiffness=kr,
                                                                 springForceUserFunction=uf))
         else:
@@ -215,6 +222,21 @@ def solve(config: Config, robot: RobotProperties, conn: ConnectorSet | None = No
     what = config.describe(robot.name)
     try:
         ok = mbs.SolveStatic(ss)
+        # Continuation: dead bands are first solved with a wide smoothing (robust), then sharpened
+        # in a few stages from the previous solution with full gravity, until at most 1 % of one
+        # body's weight moment sits in the smoothing.
+        todo = [(cell, target) for cell, target in sharpen if target < cell[0] * 0.999]
+        stages = 0
+        while ok is not False and todo and stages < 16:
+            stages += 1
+            for cell, target in todo:
+                cell[0] = max(target, cell[0] * 0.25)
+            mbs.systemData.SetODE2Coordinates(mbs.systemData.GetODE2Coordinates(),
+                                              configuration=exu.ConfigurationType.Initial)
+            st.useLoadFactor = False
+            st.numberOfLoadSteps = 1
+            ok = mbs.SolveStatic(ss)
+            todo = [(cell, target) for cell, target in todo if target < cell[0] * 0.999]
     except Exception as exc:  # exu.SolverError and friends
         raise SolverFailure(f"static solve failed for {what}: {exc}") from exc
     q = np.asarray(mbs.systemData.GetODE2Coordinates(), dtype=float)

@@ -196,3 +196,14 @@ def packaged_limits() -> StructureLimits:
     """The derived limits of the packaged robot properties with default options (the shipped limits.json)."""
     inp, _ = make_inputs(RunOptions())
     return limits_from(derive(inp))
+
+
+def write_packaged_limits() -> Path:
+    """Regenerate ``structure_fem/data/limits.json`` (``python -m structure_fem.runs``)."""
+    from .limits import packaged_limits_path
+
+    return packaged_limits().save(packaged_limits_path())
+
+
+if __name__ == "__main__":  # pragma: no cover
+    print(write_packaged_limits())

@@ -1,0 +1,111 @@
+"""`voidcross fem ...`: outputs, --json shape, bad input (one line, exit 2), properties drive the table."""
+
+from __future__ import annotations
+
+import csv
+import json
+
+import pytest
+
+pytest.importorskip("exudyn")
+
+from cubot_cad.properties import RobotPropertiesFile, default_properties  # noqa: E402
+from structure_fem.limits import StructureLimits, load_limits  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def modified_properties(tmp_path_factory):
+    """The packaged record with a 30 % heavier, 20 % softer-coupled CuBot."""
+    from dataclasses import replace
+
+    props = default_properties()
+    cub = props.get("cubot")
+    conns = tuple(replace(c, rotational_stiffness_nm_per_rad=0.8 * c.rotational_stiffness_nm_per_rad)
+                  for c in cub.connectors)
+    cub2 = replace(cub, mass_kg=cub.mass_kg * 1.3, inertia_kg_m2=tuple(1.3 * i for i in cub.inertia_kg_m2),
+                   connectors=conns)
+    robots = tuple(cub2 if r.name == "cubot" else r for r in props.robots)
+    path = tmp_path_factory.mktemp("props") / "robot_properties.json"
+    RobotPropertiesFile(robots).save(path)
+    return path
+
+
+def test_table_json_outputs_and_properties_change_the_table(cli, tmp_path, modified_properties):
+    res = cli("fem", "table", "--out", str(tmp_path), "--properties", str(modified_properties), "--json",
+              "--docs", str(tmp_path / "docs"))
+    assert res.code == 0, res.err
+    out = res.json()
+    assert set(out["thresholds"]) >= {"line", "two_line", "arch", "arch_levels"}
+    assert out["thesis_thresholds"] == {"line": 5, "two_line": 10, "arch": 15, "arch_levels": [20, 25, 30]}
+    assert out["clearance_mm"] == pytest.approx(default_properties().get("cubot").wheel_exposed_height_m * 1e3)
+    assert out["calibration"]["bolt_stiffness_nm_per_rad"] > 0
+    assert "thresholds_with_calibrated_connectors" in out["calibration"]["calibrated_alternative"]
+    for name in ("selection_table.md", "selection_table.csv", "limits.json", "deflection_vs_width.png",
+                 "side_view.png"):
+        assert (tmp_path / name).stat().st_size > 0
+    assert (tmp_path / "docs" / "structure_fem_table.md").exists()
+    lim = StructureLimits.load(tmp_path / "limits.json")
+    assert lim.source == "derived" and lim.max_span_widths == out["max_span_widths"]
+    assert lim != load_limits("derived")  # different robot record -> different table
+    rows = list(csv.DictReader((tmp_path / "selection_table.csv").open()))
+    assert [int(r["width"]) for r in rows] == list(range(1, 31))
+    assert all("nan" not in json.dumps(r).lower() for r in rows)
+    md = (tmp_path / "selection_table.md").read_text()
+    assert "| line |" in md and "thesis" in md
+    # Heavier, softer robots never cross wider.
+    packaged = load_limits("derived").thresholds()
+    assert out["thresholds"]["line"] <= packaged["line"]
+
+
+def test_caster_clearance_is_the_strict_alternative(cli, tmp_path):
+    res = cli("fem", "solve", "--rows", "5", "--over", "2", "--void", "2", "--json", "--caster")
+    assert res.code == 0, res.err
+    assert res.json()["tip_deflection_mm"] > 0
+
+
+@pytest.mark.parametrize("argv,word", [
+    (("fem", "table", "--stiffness-scale", "0"), "stiffness scale"),
+    (("fem", "table", "--mass-scale", "-1"), "mass scale"),
+    (("fem", "table", "--clearance-mm", "-3"), "clearance"),
+    (("fem", "solve", "--rows", "5", "--over", "2", "--void", "-2"), "void width"),
+    (("fem", "solve", "--rows", "0", "--over", "0", "--void", "2"), "rows"),
+    (("fem", "solve", "--structure", "arch", "--lines", "9", "--rows", "5", "--over", "2", "--void", "2"), "8 wide"),
+    (("fem", "solve", "--structure", "arch", "--layers", "5", "--rows", "5", "--over", "2", "--void", "2"), "4 high"),
+    (("fem", "table", "--robot", "nosuchbot"), "nosuchbot"),
+    (("fem", "table", "--properties", "/nonexistent/robot_properties.json"), "not found"),
+])
+def test_bad_input_is_one_line_exit_2(cli, tmp_path, argv, word):
+    res = cli(*argv, "--out", str(tmp_path)) if argv[1] == "table" else cli(*argv)
+    assert res.code == 2, res.err
+    assert len(res.error_lines) == 1 and res.error_lines[0].startswith("error:")
+    assert word in res.error_lines[0]
+    assert not (tmp_path / "limits.json").exists()
+
+
+def test_corrupt_properties_file_is_exit_2_and_keeps_old_outputs(cli, tmp_path):
+    bad = tmp_path / "robot_properties.json"
+    bad.write_text('{"schema_version": 1, "robots": [{"name": "cubot"')
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / "limits.json").write_text("old")
+    res = cli("fem", "table", "--properties", str(bad), "--out", str(tmp_path / "out"))
+    assert res.code == 2 and len(res.error_lines) == 1 and "robot_properties.json" in res.error_lines[0]
+    assert (tmp_path / "out" / "limits.json").read_text() == "old"
+
+
+def test_non_positive_stiffness_in_properties_is_exit_2(cli, tmp_path):
+    d = default_properties().to_dict()
+    d["robots"][0]["connectors"][0]["rotational_stiffness_nm_per_rad"] = -1.0
+    p = tmp_path / "p.json"
+    p.write_text(json.dumps(d))
+    res = cli("fem", "table", "--properties", str(p), "--out", str(tmp_path))
+    assert res.code == 2 and "rotational_stiffness_nm_per_rad" in res.error_lines[0]
+
+
+def test_pipeline_stage_sets_limits_and_fem_dir(tmp_path):
+    from voidcross.commands.fem import pipeline_stage
+
+    ctx: dict = {}
+    line = pipeline_stage(tmp_path / "fem", ctx)
+    assert "derived thresholds" in line
+    assert StructureLimits.load(ctx["limits"]).source == "derived"
+    assert (tmp_path / "fem" / "selection_table.md").exists() and ctx["fem_dir"] == str(tmp_path / "fem")
