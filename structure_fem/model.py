@@ -120,9 +120,27 @@ def solve(config: Config, robot: RobotProperties, conn: ConnectorSet | None = No
           flexible: bool = False, options: SolverOptions = SolverOptions()) -> StaticResult:
     """Build the exudyn system for ``config`` and solve it statically.
 
-    Raises :class:`SolverFailure` naming the configuration when Newton does not
-    converge or returns a non-finite state.
+    A failed Newton run is retried with 4x and 1/4 the load steps (the
+    adaptive step control occasionally stalls on one ramp and not another);
+    if all fail, raises :class:`SolverFailure` naming the configuration.
     """
+    if conn is None:
+        conn = ConnectorSet.from_robot(robot)
+    if flexible:
+        conn = _flexible(conn, robot)
+    attempts = (options, replace(options, load_steps=4 * options.load_steps),
+                replace(options, load_steps=max(2, options.load_steps // 4)))
+    last: SolverFailure | None = None
+    for opt in attempts:
+        try:
+            return _solve_once(config, robot, conn, opt)
+        except SolverFailure as exc:
+            last = exc
+    raise SolverFailure(f"{last} (also retried with {attempts[1].load_steps} and {attempts[2].load_steps} "
+                        "load steps)")
+
+
+def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, options: SolverOptions) -> StaticResult:
     import exudyn as exu
     from exudyn.itemInterface import (
         LoadMassProportional,
@@ -136,10 +154,6 @@ def solve(config: Config, robot: RobotProperties, conn: ConnectorSet | None = No
         ObjectRigidBody2D,
     )
 
-    if conn is None:
-        conn = ConnectorSet.from_robot(robot)
-    if flexible:
-        conn = _flexible(conn, robot)
     lay = layout(config.structure, robot, conn, config.rows, config.rows_over, config.void_widths, config.phase)
     exu.config.printToConsole = False
     SC = exu.SystemContainer()
