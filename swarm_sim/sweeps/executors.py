@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import importlib
+import logging
 import multiprocessing
 import os
 import signal
@@ -156,7 +157,8 @@ class DaskExecutor:
         else:
             self.cluster = LocalCluster(
                 n_workers=self.workers or os.cpu_count() or 1, threads_per_worker=1,
-                processes=self.processes, protocol="tcp://", host="127.0.0.1", dashboard_address=None)
+                processes=self.processes, protocol="tcp://", host="127.0.0.1", dashboard_address=None,
+                silence_logs=logging.ERROR)
             self.client = Client(self.cluster)
         self.workers = len(self.client.scheduler_info().get("workers", {})) or self.workers
         return self
@@ -177,7 +179,7 @@ class DaskExecutor:
         from distributed import as_completed
 
         assert self.client is not None, "use DaskExecutor as a context manager"
-        window = window or 2 * max(1, self.workers or 1)
+        window = window or 4 * max(1, self.workers or 1)  # keep workers fed across round trips
         it = iter(keys)
         inflight: dict = {}
 

@@ -152,7 +152,10 @@ def run_bench(args: argparse.Namespace) -> int:
         lines.append(f"  {tag:8s} {c['runs_per_min']:8.1f} runs/min  ({c['wall_s_per_run']:.3f} s/run, "
                      f"executor overhead {c['overhead_ms_per_run']:.2f} ms/run, start-up {c['startup_s']:.1f} s)")
     if "dask_overhead_vs_local_2" in res:
-        lines.append(f"  Dask overhead per run vs local (2 workers): {100 * res['dask_overhead_vs_local_2']:+.1f} %")
+        lines.append(f"  Dask overhead per run vs local (2 workers): {100 * res['dask_overhead_vs_local_2']:+.1f} % "
+                     "of wall time per run (noisy on a shared machine)")
+        lines.append(f"  Dask extra executor cost: {res['dask_extra_ms_per_run_synthetic']:+.2f} ms per run = "
+                     f"{100 * res['dask_extra_overhead_fraction']:+.2f} % of a local run")
     lines.append(f"  local speed-up 2 vs 1 workers: {res['speedup_2_vs_1_local']:.2f}x")
     emit(args, res, "\n".join(lines))
     return 0
