@@ -9,11 +9,13 @@ retreat) with times drawn from a generator seeded by (robots, width, seed).
 
 Overrides it understands (``--set KEY=VALUE``): ``sleep_s`` (wall seconds
 to sleep), ``spin_s`` (wall seconds of busy CPU work), ``raise_on_seed``
-(raise RuntimeError for that seed), ``return_bad`` (return a non-dict).
+(raise RuntimeError for that seed), ``exit_on_seed`` (the worker
+process exits abruptly), ``return_bad`` (return a non-dict).
 """
 
 from __future__ import annotations
 
+import os
 import time
 
 import numpy as np
@@ -24,6 +26,8 @@ def synthetic_run(key: dict) -> dict:
     n, w, seed = int(key["robots"]), int(key["void_width"]), int(key["seed"])
     if "raise_on_seed" in ov and int(ov["raise_on_seed"]) == seed:
         raise RuntimeError(f"synthetic failure for seed {seed}")
+    if "exit_on_seed" in ov and int(ov["exit_on_seed"]) == seed:
+        os._exit(17)  # a worker that dies outright (as if killed or out of memory)
     if ov.get("return_bad"):
         return "not a dict"  # type: ignore[return-value]
     if ov.get("sleep_s"):

@@ -212,3 +212,12 @@ def test_address_without_dask_is_bad_input(cli, tmp_path):
     res = cli(*BASE, "--robots", "3", "--void-width", "1", "--address", "tcp://127.0.0.1:1",
               "--db", str(tmp_path / "a.sqlite"))
     assert res.code == 2 and "--address" in res.error_lines[0]
+
+
+def test_dead_worker_is_an_internal_failure_that_keeps_stored_runs(cli, tmp_path):
+    db = tmp_path / "w.sqlite"
+    res = cli(*BASE, "--robots", "3-6", "--void-width", "1", "--runs", "4", "--workers", "1",
+              "--set", "exit_on_seed=3", "--db", str(db))
+    assert res.code == 1 and "worker process died" in res.err and "--resume" in res.err
+    stored = rows(db)
+    assert stored and all(r[3] == "ok" and r[2] != 3 for r in stored)

@@ -11,6 +11,7 @@ import argparse
 import json
 import sys
 import time
+from concurrent.futures import BrokenExecutor
 from pathlib import Path
 
 from ..output import emit, progress
@@ -75,6 +76,10 @@ def execute_plan(plan, executor, workers, address, desc: str):
                     pass
     except KeyboardInterrupt:
         plan.summary.interrupted = True
+    except BrokenExecutor as exc:  # a worker process died (killed, out of memory): not the run's fault
+        s = plan.summary
+        raise RuntimeError(f"a worker process died ({exc}); {s.already_stored + s.ok + s.errors}/{s.planned} "
+                           "runs are safely stored: re-run the same command with --resume") from None
     finally:
         plan.summary.wall_s = time.perf_counter() - t0
         plan.close()
