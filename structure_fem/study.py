@@ -241,8 +241,8 @@ class TableRow:
     width: int
     band: str
     structure: str
-    lines: int
-    layers: int
+    lines: int | None
+    layers: int | None
     min_robots: int | None
     thesis_robots: int
     launch_initial: int | None
@@ -275,7 +275,7 @@ def table(d: Derivation, progress: Callable[[Iterable, str, int], Iterable] | No
         trob = thesis_robots(w) if w <= 30 else 0
         band = next(((s, lo, hi) for s, lo, hi in d.levels if lo <= w <= hi), None)
         if band is None:
-            rows_out.append(TableRow(w, "beyond", "none", 0, 0, None, trob, *([None] * 6), None, None, None,
+            rows_out.append(TableRow(w, "beyond", "none", None, None, None, trob, *([None] * 6), None, None, None,
                                      None, None))
             continue
         s, lo, hi = band
