@@ -7,6 +7,8 @@ import os
 import sqlite3
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from swarm_sim.errors import InputError
 from swarm_sim.sweeps import (
@@ -184,3 +186,29 @@ def test_local_process_pool(tmp_path):
     with ResultStore.open_readonly(tmp_path / "l.sqlite") as st:
         workers = {r["worker"] for r in st.iter_runs()}
     assert len(workers) >= 1 and all(":" in w for w in workers)
+
+
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(cuts=st.lists(st.integers(0, 24), min_size=1, max_size=3))
+def test_any_sequence_of_interruptions_gives_the_uninterrupted_result(tmp_path_factory, cuts):
+    d = tmp_path_factory.mktemp("cuts")
+    ref, _ = run_serial(spec(), d / "ref.sqlite")
+    db = d / "cut.sqlite"
+    for k in cuts:
+        plan = prepare_sweep(spec(), db, run_fn=SYNTH, resume=True)
+        gen = plan.execute(SerialExecutor())
+        for _ in zip(range(k), gen, strict=False):
+            pass
+        gen.close()
+        plan.close()
+    run_serial(spec(), db, resume=True)
+    cols = "preset, param_hash, seed, status, success, t_s, t_a, t_o, t_d, t_b, t_t, seed_robot, target_finder"
+
+    def table(p):
+        con = sqlite3.connect(p)
+        try:
+            return sorted(con.execute(f"SELECT {cols} FROM runs").fetchall())
+        finally:
+            con.close()
+
+    assert table(db) == table(d / "ref.sqlite")
