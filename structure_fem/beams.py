@@ -91,3 +91,76 @@ def cantilever_tip(length_m: float, mass_per_length: float, bending_stiffness: f
         raise SolverFailure(f"beam cantilever L={length_m} m, {elements} elements did not converge")
     q = mbs.systemData.GetODE2Coordinates()
     return -float(q[4 * elements + 1])
+
+
+def flexible_line_tip(robot: RobotProperties, joint_nm_per_rad: float, robots_over: int,
+                      elements_per_robot: int = 4, joint_length_m: float = 0.002) -> float:
+    """Tip deflection (m) of ``robots_over`` robots cantilevered from a clamped edge, every robot
+    a flexible beam (ANCF cable elements, ``E`` of the material, hollow box section ``I`` scaled by
+    the fill fraction, as in ``model._flexible``) and every coupling a short element of length
+    ``joint_length_m`` whose bending stiffness ``k * l`` makes it a rotational spring ``k``.
+
+    The beam-element counterpart of ``solve(..., flexible=True)`` (which lumps the robots'
+    bending at the joints), without backlash.
+    """
+    import exudyn as exu
+    from exudyn.itemInterface import (
+        LoadMassProportional,
+        MarkerBodyMass,
+        MarkerNodeCoordinate,
+        NodePoint2DSlope1,
+        NodePointGround,
+        ObjectANCFCable2D,
+        ObjectConnectorCoordinate,
+    )
+
+    if not (math.isfinite(joint_nm_per_rad) and joint_nm_per_rad > 0):
+        raise InputError(f"joint stiffness must be > 0 N m/rad, got {joint_nm_per_rad!r}")
+    if not (isinstance(robots_over, int) and robots_over >= 1):
+        raise InputError(f"robots over the edge must be an integer >= 1, got {robots_over!r}")
+    fill = min(1.0, robot.mass_kg / (robot.density_kg_m3 * robot.length_m * robot.width_m * robot.height_m))
+    ei = robot.youngs_modulus_pa * fill * robot.width_m * robot.height_m ** 3 / 12.0
+    ea = robot.youngs_modulus_pa * fill * robot.width_m * robot.height_m
+    mu = robot.mass_kg / robot.length_m
+    # Segments from the clamp outwards: joint at the edge, then robot, joint, robot, ...
+    segs: list[tuple[float, float]] = []  # (length, bending stiffness)
+    body = robot.length_m - joint_length_m
+    for _ in range(robots_over):
+        segs.append((joint_length_m, joint_nm_per_rad * joint_length_m))
+        segs += [(body / elements_per_robot, ei)] * elements_per_robot
+    exu.config.printToConsole = False
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    x = 0.0
+    nodes = [mbs.AddNode(NodePoint2DSlope1(referenceCoordinates=[0.0, 0.0, 1.0, 0.0]))]
+    for le, eib in segs:
+        x += le
+        nodes.append(mbs.AddNode(NodePoint2DSlope1(referenceCoordinates=[x, 0.0, 1.0, 0.0])))
+        o = mbs.AddObject(ObjectANCFCable2D(nodeNumbers=[nodes[-2], nodes[-1]], length=le, massPerLength=mu,
+                                            bendingStiffness=eib, axialStiffness=ea))
+        m = mbs.AddMarker(MarkerBodyMass(bodyNumber=o))
+        mbs.AddLoad(LoadMassProportional(markerNumber=m, loadVector=[0.0, -GRAVITY, 0.0]))
+    g = mbs.AddNode(NodePointGround(referenceCoordinates=[0, 0, 0]))
+    mg = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=g, coordinate=0))
+    for coord in (0, 1, 3):
+        mc = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nodes[0], coordinate=coord))
+        mbs.AddObject(ObjectConnectorCoordinate(markerNumbers=[mg, mc]))
+    mbs.Assemble()
+    ss = exu.SimulationSettings()
+    ss.solution.file.write = False
+    ss.solution.sensors.active = False
+    st = ss.staticSolver
+    st.verboseMode = 0
+    st.numberOfLoadSteps = 8
+    st.newton.adaptInitialResidual = False
+    st.newton.relativeTolerance = 1e-6
+    st.newton.absoluteTolerance = 1e-6
+    ss.linearSolver.solverType = exu.LinearSolverType.EXUdense
+    try:
+        ok = mbs.SolveStatic(ss)
+    except Exception as exc:
+        raise SolverFailure(f"flexible line of {robots_over} robots: {exc}") from exc
+    if ok is False:
+        raise SolverFailure(f"flexible line of {robots_over} robots did not converge")
+    q = mbs.systemData.GetODE2Coordinates()
+    return -float(q[4 * len(segs) + 1])

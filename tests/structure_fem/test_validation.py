@@ -108,3 +108,31 @@ def test_aligned_side_by_side_lines_deflect_exactly_like_one_line(robot):
     two = solve(Config(Structure("two_line", 2, 1, "aligned"), 9, 4, 4), robot)
     assert two.tip_deflection_m == pytest.approx(one.tip_deflection_m, rel=1e-6)
     assert two.robots == 2 * one.robots
+
+
+@pytest.mark.parametrize("k", [200.0, 2.0e4])
+def test_beam_element_robots_vs_rigid_and_lumped_flexible(make_robot, k):
+    """Robots as ANCF beams (E of ABS, hollow section) joined by short compliant elements,
+    against the rigid-body model and its lumped-flexible option (clamped, no backlash, 5 robots).
+
+    With couplings as soft as the CuBot's (k ~ 200 N m/rad) the robots' own bending is lost in
+    the joints (Eq. 7.1's point): the beam model is within 2 % of the rigid one. With joints 100x
+    stiffer the bodies' bending shows, and the lumped option stays on the safe side of the beam
+    model (it puts the bodies' compliance at the joints' larger moment) within 15 %."""
+    from dataclasses import replace
+
+    from structure_fem.beams import flexible_line_tip
+
+    robot = make_robot(k=k, k_ax=1e9)
+    conn = ConnectorSet.from_robot(robot)
+    n = 5
+    cfg = Config(Structure("line"), n + 1, n, n, clamped=True)
+    opts = SolverOptions(contact_n_per_m=1e9)
+    beam = flexible_line_tip(robot, k, n)
+    rigid = solve(cfg, robot, conn, options=opts).tip_deflection_m
+    lumped = solve(cfg, replace(robot), conn, flexible=True, options=opts).tip_deflection_m
+    if k < 1e3:
+        assert beam == pytest.approx(rigid, rel=0.02)
+    else:
+        assert beam > 1.2 * rigid
+    assert beam <= lumped <= 1.15 * beam
