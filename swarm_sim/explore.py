@@ -20,6 +20,9 @@ import math
 import numpy as np
 
 from .grid import HAVE_NUMBA, blocked_ahead, numba
+
+if HAVE_NUMBA:
+    from .grid import hash_ahead, hash_build
 from .params import Params
 from .world import World, wrap
 
@@ -77,10 +80,11 @@ def _walk_numpy(x, y, h, goal, run_left, walkers, straight, blocked, u, world: W
 
 if HAVE_NUMBA:
 
-    @numba.njit(cache=True)
-    def _ok(x, y, h, sq, hl, hw, W, H, x0, x1, obs, r):  # pragma: no cover - compiled
-        c = abs(math.cos(h))
-        s = abs(math.sin(h))
+    @numba.njit(cache=True, inline="always")
+    def _ok(x, y, c, s, sq, hl, hw, W, H, x0, x1, obs, r):  # pragma: no cover - compiled
+        """pose_ok for one robot, given cos/sin of its heading."""
+        c = abs(c)
+        s = abs(s)
         if sq:
             ex = hl * c + hw * s
             ey = hl * s + hw * c
@@ -96,19 +100,26 @@ if HAVE_NUMBA:
                 return False
         return True
 
-    @numba.njit(cache=True)
+    @numba.njit(cache=True, inline="always")
     def _wrap(a):  # pragma: no cover - compiled
-        return (a + math.pi) % (2 * math.pi) - math.pi
+        return (a + math.pi) % (2 * math.pi) - math.pi  # same rounding as world.wrap
 
     @numba.njit(cache=True)
-    def _walk_kernel(x, y, h, goal, run_left, walkers, straight, blocked, u, sq, hl, hw, W, H, x0, x1,
+    def _walk_kernel(x, y, h, goal, run_left, walkers, straight, u, sq, hl, hw, W, H, x0, x1,
                      obs, r, detect, avoid, dist, turn_max, levy, mu, lmin, lmax, p_turn,
                      turn_rad):  # pragma: no cover - compiled
+        g_cnt, g_items, g_x, g_y, g_mask = hash_build(x, y, avoid)  # positions before anyone moves
         q = 0.5 * hw
         a = mu - 1.0
         mid = 0.5 * (x0 + x1)
+        widx = np.full(x.shape[0], -1, np.int64)
         for k in range(walkers.shape[0]):
-            i = walkers[k]
+            widx[walkers[k]] = k
+        for kk in range(g_items.shape[0]):  # bucket order: neighbours share cache lines
+            i = g_items[kk]
+            k = widx[i]
+            if k < 0:
+                continue
             wx = x[i]
             wy = y[i]
             wh = h[i]
@@ -132,8 +143,8 @@ if HAVE_NUMBA:
                 dy = obs[o, 1] - wy
                 if dx * dx + dy * dy < (obs[o, 2] + avoid) ** 2 and dx * c + dy * s > 0:
                     hz = True
-            if blocked[k] and not straight[k]:
-                hz = True
+            if not hz and not straight[k]:
+                hz = hash_ahead(i, wx, wy, c, s, avoid, g_cnt, g_items, g_x, g_y, g_mask)
             g = goal[i]
             rl = run_left[i]
             if hz:
@@ -156,18 +167,20 @@ if HAVE_NUMBA:
             d = _wrap(g - wh)
             dh = min(max(d, -turn_max), turn_max)
             nh = _wrap(wh + dh)
+            cn = math.cos(nh)
+            sn = math.sin(nh)
             st = dist if (abs(d - dh) < 1e-9 and not hz) else 0.0
-            nx = wx + st * math.cos(nh)
-            ny = wy + st * math.sin(nh)
-            if not _ok(nx, ny, nh, sq, hl, hw, W, H, x0, x1, obs, r):
+            nx = wx + st * cn
+            ny = wy + st * sn
+            if not _ok(nx, ny, cn, sn, sq, hl, hw, W, H, x0, x1, obs, r):
                 ax = wx + dist * c
                 ay = wy + dist * s
                 sx = wx - dist if wx < mid else wx + dist
-                if _ok(ax, ay, wh, sq, hl, hw, W, H, x0, x1, obs, r):
+                if _ok(ax, ay, c, s, sq, hl, hw, W, H, x0, x1, obs, r):
                     nx, ny, nh = ax, ay, wh
-                elif _ok(wx, wy, nh, sq, hl, hw, W, H, x0, x1, obs, r):
+                elif _ok(wx, wy, cn, sn, sq, hl, hw, W, H, x0, x1, obs, r):
                     nx, ny = wx, wy
-                elif _ok(sx, wy, wh, sq, hl, hw, W, H, x0, x1, obs, r):
+                elif _ok(sx, wy, c, s, sq, hl, hw, W, H, x0, x1, obs, r):
                     nx, ny, nh = sx, wy, wh
                 else:
                     nx, ny, nh = wx, wy, wh
@@ -191,10 +204,8 @@ def walk(x, y, h, goal, run_left, walkers, straight, world: World, p: Params, rn
     if use_numba is None:
         use_numba = HAVE_NUMBA
     u = rng.random((4, k))
-    q = walkers[~straight]
-    blocked = blocked_ahead(x, y, h, q, p.avoid_cm, use_numba)[walkers] if q.size else np.zeros(k, bool)
     if use_numba and HAVE_NUMBA and world.shape == "square":
-        _walk_kernel(x, y, h, goal, run_left, walkers.astype(np.int64), straight, blocked, u,
+        _walk_kernel(x, y, h, goal, run_left, walkers.astype(np.int64), straight, u,
                      True, 0.5 * world.length_cm, 0.5 * world.width_cm, world.w_cm, world.h_cm,
                      world.x0_cm if np.isfinite(world.x0_cm) else 1e308,
                      world.x1_cm if np.isfinite(world.x1_cm) else 1e308,
@@ -202,5 +213,7 @@ def walk(x, y, h, goal, run_left, walkers, straight, world: World, p: Params, rn
                      p.speed_cm_s * p.dt_s, p.turn_max_rad, p.walk == "levy", p.levy_mu,
                      p.levy_min_cm, p.levy_max_cm, p.random_turn_prob, p.random_turn_rad)
     else:
+        q = walkers[~straight]
+        blocked = blocked_ahead(x, y, h, q, p.avoid_cm, use_numba)[walkers] if q.size else np.zeros(k, bool)
         _walk_numpy(x, y, h, goal, run_left, walkers, straight, blocked, u, world, p)
     return x, y, h, goal, run_left

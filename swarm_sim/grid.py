@@ -2,11 +2,13 @@
 
 :func:`blocked_ahead` answers, for each querying robot, "is another robot's centre
 within ``radius_cm`` and in my front half-plane?". A numba kernel (counting sort
-into cells, then a 3 x 3 cell scan) is used when numba is installed; otherwise a
+of the cells into a spatial hash of ~2N buckets, then a 3 x 3 cell scan) is used when numba is installed; otherwise a
 vectorised numpy version (sort + searchsorted pair generation) gives identical results.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -65,51 +67,74 @@ def blocked_ahead_numpy(x, y, h, query, radius):
 if HAVE_NUMBA:
 
     @numba.njit(cache=True)
-    def _blocked_kernel(x, y, h, query, radius, out):  # pragma: no cover - compiled
+    def hash_build(x, y, radius):  # pragma: no cover - compiled
+        """Robots binned over cells of side ``2 * radius`` folded onto a K x K table
+        (K^2 ~ 2N, cell (cx, cy) -> bucket (cx mod K, cy mod K)): (counts, items, sx, sy, K).
+        Memory and time are O(N) for any arena; neighbouring cells stay neighbours in
+        memory (cache-friendly); folding only adds candidates, which the distance test
+        rejects. sx/sy are the positions in bucket order (a snapshot, so callers may move
+        robots meanwhile)."""
         n = x.shape[0]
-        x0 = x.min()
-        y0 = y.min()
-        nx = int((x.max() - x0) / radius) + 3
-        ny = int((y.max() - y0) / radius) + 3
-        ncell = nx * ny
-        counts = np.zeros(ncell + 1, np.int64)
-        cell = np.empty(n, np.int64)
+        k = 1
+        while k * k < 2 * n:
+            k += 1
+        inv = 0.5 / radius
+        counts = np.zeros(k * k + 1, np.int64)
+        bucket = np.empty(n, np.int64)
         for i in range(n):
-            c = (int((x[i] - x0) / radius) + 1) * ny + int((y[i] - y0) / radius) + 1
-            cell[i] = c
-            counts[c + 1] += 1
-        for c in range(ncell):
-            counts[c + 1] += counts[c]
+            b = (np.int64(math.floor(x[i] * inv)) % k) * k + np.int64(math.floor(y[i] * inv)) % k
+            bucket[i] = b
+            counts[b + 1] += 1
+        for b in range(k * k):
+            counts[b + 1] += counts[b]
         fill = counts[:-1].copy()
         items = np.empty(n, np.int64)
+        sx = np.empty(n)
+        sy = np.empty(n)
         for i in range(n):
-            items[fill[cell[i]]] = i
-            fill[cell[i]] += 1
-        r2 = radius * radius
-        for qi in range(query.shape[0]):
-            i = query[qi]
-            ci = cell[i]
-            ch = np.cos(h[i])
-            sh = np.sin(h[i])
-            found = False
-            for dx in range(-1, 2):
-                for dy in range(-1, 2):
-                    c = ci + dx * ny + dy
-                    for k in range(counts[c], counts[c + 1]):
-                        j = items[k]
-                        if j == i:
-                            continue
-                        ddx = x[j] - x[i]
-                        ddy = y[j] - y[i]
-                        if ddx * ddx + ddy * ddy < r2 and ddx * ch + ddy * sh > 0:
-                            found = True
-                            break
-                    if found:
-                        break
-                if found:
-                    break
-            out[i] = found
+            f = fill[bucket[i]]
+            items[f] = i
+            sx[f] = x[i]
+            sy[f] = y[i]
+            fill[bucket[i]] += 1
+        mask = k
+        return counts, items, sx, sy, mask
 
+    @numba.njit(cache=True, inline="always")
+    def hash_ahead(i, xi, yi, ch, sh, radius, counts, items, sx, sy, mask):  # pragma: no cover
+        """Is another robot's centre within ``radius`` of (xi, yi) and ahead along (ch, sh)?
+        Cells are ``2 * radius`` wide, so the disc touches only the 2 x 2 cells on the side
+        of the point's cell it is nearest to."""
+        inv = 0.5 / radius
+        fx = xi * inv
+        fy = yi * inv
+        cx = np.int64(math.floor(fx))
+        cy = np.int64(math.floor(fy))
+        x_lo = cx - 1 if fx - cx < 0.5 else cx
+        y_lo = cy - 1 if fy - cy < 0.5 else cy
+        r2 = radius * radius
+        for gx in range(x_lo, x_lo + 2):
+            for gy in range(y_lo, y_lo + 2):
+                b = (gx % mask) * mask + gy % mask
+                for k in range(counts[b], counts[b + 1]):
+                    ddx = sx[k] - xi
+                    ddy = sy[k] - yi
+                    if items[k] != i and ddx * ddx + ddy * ddy < r2 and ddx * ch + ddy * sh > 0:
+                        return True
+        return False
+
+    @numba.njit(cache=True)
+    def _blocked_kernel(x, y, h, query, radius, out):  # pragma: no cover - compiled
+        counts, items, sx, sy, mask = hash_build(x, y, radius)
+        asks = np.zeros(x.shape[0], np.bool_)
+        for qi in range(query.shape[0]):
+            asks[query[qi]] = True
+        for kk in range(items.shape[0]):  # bucket order: neighbouring queries share cache lines
+            i = items[kk]
+            if not asks[i]:
+                continue
+            out[i] = hash_ahead(i, x[i], y[i], math.cos(h[i]), math.sin(h[i]), radius,
+                                counts, items, sx, sy, mask)
 
 def blocked_ahead(x, y, h, query, radius, use_numba: bool | None = None):
     """Bool per robot (False for robots not in ``query``)."""

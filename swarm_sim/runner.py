@@ -86,8 +86,10 @@ def initial_poses(p: Params, rng: np.random.Generator) -> tuple[np.ndarray, np.n
         pitch = 2.5 * L
         rows = max(1, min(n, int((p.arena_h_cm - 2 * L) // pitch)))
         cols = math.ceil(n / rows)
-        xs = 2 * L + pitch * np.arange(cols)
-        if xs[-1] > x0 - 3 * L:
+        # the last column (highest ids) stands 5 robot lengths before the void, the rest behind it
+        last = min(x0 - 2 * L, max(x0 - 5 * L, 1.5 * L + pitch * (cols - 1)))
+        xs = last - pitch * np.arange(cols)[::-1]
+        if xs[0] < 1.5 * L:
             raise InputError(f"robots={n} do not fit in the fixed start grid left of the void")
         ys0 = 0.5 * p.arena_h_cm - 0.5 * pitch * (rows - 1)
         k = np.arange(n)

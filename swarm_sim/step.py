@@ -28,7 +28,8 @@ WALKING_LUT = np.zeros(len(Mode), dtype=bool)
 WALKING_LUT[list(WALKING_MODES)] = True
 
 
-def _goto(x, y, h, tx, ty, p: Params, world: World, final_heading: float | None = None):
+def _goto(x, y, h, tx, ty, p: Params, world: World, final_heading: float | None = None,
+          align_h: float | None = None):
     """Drive one robot one step towards (tx, ty): turn (limited), then drive; stays off hazards."""
     dist = p.speed_cm_s * p.dt_s
     dx, dy = tx - x, ty - y
@@ -45,11 +46,37 @@ def _goto(x, y, h, tx, ty, p: Params, world: World, final_heading: float | None 
     if abs(d) > p.turn_max_rad + 1e-12:
         if world.pose_ok1(x, y, nh):
             return x, y, nh, False
-        return x, y, h, False
+        return _slide_off(x, y, h, dist, world)
     step = min(dist, r)
-    nx, ny = x + step * math.cos(want), y + step * math.sin(want)
-    if world.pose_ok1(nx, ny, want):
-        return nx, ny, want, False
+    # straight at the goal, else skirt an obstacle/edge at 45 or 90 degrees
+    for off in (0.0, math.pi / 4, -math.pi / 4, math.pi / 2, -math.pi / 2):
+        a = want + off
+        nx, ny = x + step * math.cos(a), y + step * math.sin(a)
+        if world.pose_ok1(nx, ny, a):
+            return nx, ny, a, False
+    if world.pose_ok1(x, y, want):
+        return x, y, want, False
+    # cramped (wall or edge too close to turn): creep towards the goal keeping the heading,
+    # standing for the small forward/back shuffles a differential drive makes
+    headings = [h]
+    if align_h is not None:
+        da = float(wrap(np.array(align_h - h)))
+        headings.insert(0, h + max(-p.turn_max_rad, min(p.turn_max_rad, da)))
+    for hh in headings:
+        nx, ny = x + step * dx / r, y + step * dy / r
+        if world.pose_ok1(nx, ny, hh):
+            return nx, ny, hh, False
+        if world.pose_ok1(x, y, hh) and hh != h:
+            return x, y, hh, False
+    return _slide_off(x, y, h, dist, world)
+
+
+def _slide_off(x, y, h, dist, world: World):
+    """Edge reflex: too close to the void to turn: back away from the edge one step."""
+    mid = 0.5 * (world.x0_cm + world.x1_cm)
+    sx = x - dist if x < mid else x + dist
+    if world.pose_ok1(sx, y, h):
+        return sx, y, h, False
     return x, y, h, False
 
 
@@ -154,9 +181,9 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
             on_axis = abs((ry - dyp) * st.dir_x - (rx - dxp) * st.dir_y) < 1e-6 and \
                 (dxp - rx) * st.dir_x + (dyp - ry) * st.dir_y >= -1e-6
             if not on_axis:
-                nx, ny, nh, _ = _goto(rx, ry, rh, wxp, wyp, p, world)
+                nx, ny, nh, _ = _goto(rx, ry, rh, wxp, wyp, p, world, align_h=dir_h)
             else:
-                nx, ny, nh, arrived = _goto(rx, ry, rh, dxp, dyp, p, world, final_heading=dir_h)
+                nx, ny, nh, arrived = _goto(rx, ry, rh, dxp, dyp, p, world, final_heading=dir_h, align_h=dir_h)
                 if arrived and math.hypot(nx - dxp, ny - dyp) < 1e-9:
                     members = st.members + (r,)
                     st = replace(st, members=members, recruit=-1, action="idle")

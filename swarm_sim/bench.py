@@ -1,0 +1,108 @@
+"""Exploration-only benchmark: robot-steps per second and how cost scales with N.
+
+Random walk with wall and robot avoidance in a square walled arena (no void) sized
+so the robots' bodies cover ``coverage`` (5 %) of the floor, so density is the same
+for every N. Each measurement runs the real :func:`swarm_sim.step.step`.
+"""
+
+from __future__ import annotations
+
+import math
+import resource
+import sys
+import time
+from dataclasses import replace
+
+import numpy as np
+
+from .errors import InputError
+from .grid import HAVE_NUMBA
+from .params import Params
+from .state import new_state
+from .step import step
+from .world import World
+
+
+def bench_params(robots: int, coverage: float = 0.05, walk: str = "random") -> Params:
+    L = 10.0
+    side = math.sqrt(robots * L * L / coverage)
+    return replace(Params(), preset="bench", robots=robots, arena_w_cm=side, arena_h_cm=side,
+                   target_x_cm=-1e9, target_y_cm=-1e9, walk=walk, max_time_s=1e12,
+                   limits_source="none")
+
+
+def _setup(robots: int, seed: int, coverage: float):
+    p = bench_params(robots, coverage)
+    world = World.from_params(p, void=False)
+    rng = np.random.default_rng(seed)
+    r = world.body_radius_cm
+    x = rng.uniform(r, p.arena_w_cm - r, robots)
+    y = rng.uniform(r, p.arena_h_cm - r, robots)
+    h = rng.uniform(-np.pi, np.pi, robots)
+    return p, world, rng, new_state(x, y, h)
+
+
+def time_steps(robots: int, steps: int, seed: int = 0, coverage: float = 0.05,
+               use_numba: bool | None = None, clock=time.process_time) -> float:
+    """CPU seconds of this process (``clock``) for ``steps`` steps of ``robots`` robots,
+    after one warm-up step. CPU time, not wall time: the machine is shared, and the
+    question is the cost of a robot-step on one core."""
+    p, world, rng, s = _setup(robots, seed, coverage)
+    s = step(s, p, world, rng, use_numba)  # warm-up (numba compile / caches)
+    t0 = clock()
+    for _ in range(steps):
+        s = step(s, p, world, rng, use_numba)
+    return clock() - t0
+
+
+def state_bytes(robots: int) -> int:
+    _, _, _, s = _setup(robots, 0, 0.05)
+    return int(sum(getattr(s, f).nbytes for f in ("x_cm", "y_cm", "heading_rad", "goal_heading_rad",
+                                                  "run_left_cm", "mode", "struct_index", "disperse_left_s")))
+
+
+def _load() -> float:
+    try:
+        import os
+
+        return os.getloadavg()[0]
+    except OSError:  # pragma: no cover
+        return float("nan")
+
+
+def peak_rss_bytes() -> int:
+    r = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return int(r if sys.platform == "darwin" else r * 1024)
+
+
+def bench(robots: int = 10_000, steps: int = 500, scaling: tuple[int, ...] = (1_000, 3_000, 10_000, 30_000, 100_000),
+          use_numba: bool | None = None, progress=lambda it, total: it) -> dict:
+    if isinstance(robots, bool) or not isinstance(robots, int) or robots < 2:
+        raise InputError(f"--robots must be an integer >= 2, got {robots!r}")
+    if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
+        raise InputError(f"--steps must be a positive integer, got {steps!r}")
+    numba_used = HAVE_NUMBA if use_numba is None else (use_numba and HAVE_NUMBA)
+    t_w = time.perf_counter()
+    cpu = time_steps(robots, steps, use_numba=use_numba)
+    wall = time.perf_counter() - t_w
+    rate = robots * steps / cpu
+    points = []
+    for n in progress(scaling, len(scaling)):
+        k = max(20, int(2_000_000 // n))  # ~2e6 robot-steps per point
+        k = min(k, 500)
+        w = time_steps(n, k, use_numba=use_numba)
+        points.append({"robots": n, "steps": k, "seconds_per_step": w / k, "robot_steps_per_s": n * k / w})
+    ns = np.log([pt["robots"] for pt in points])
+    ts = np.log([pt["seconds_per_step"] for pt in points])
+    slope = float(np.polyfit(ns, ts, 1)[0]) if len(points) >= 2 else float("nan")
+    return {
+        "robots": robots, "steps": steps, "cpu_s": round(cpu, 4), "wall_s": round(wall, 4),
+        "robot_steps_per_s": round(rate, 1), "robot_steps_per_wall_s": round(robots * steps / wall, 1),
+        "realtime_factor_at_dt": round(steps * 0.01 / cpu, 3),
+        "load_average_1min": round(_load(), 2),
+        "scaling_exponent": round(slope, 3), "scaling_points": points, "numba": numba_used,
+        "coverage": 0.05, "state_bytes_100k": state_bytes(100_000),
+        "peak_rss_bytes": peak_rss_bytes(),
+        "note": "exploration only (random walk, wall and robot avoidance), one process, CPU time; "
+                "peak_rss_bytes is the whole process after the 100,000-robot point",
+    }
