@@ -26,6 +26,7 @@ COLUMNS = (
     ("bridged_initial", "bridged initial"), ("bridged_over", "bridged over"), ("bridged_target", "bridged target"),
     ("max_deflection_mm", "max tip defl. mm"), ("bridged_deflection_mm", "bridged defl. mm"),
     ("margin_mm", "margin mm"), ("min_tipping_factor", "min tipping"), ("thesis_count_tipping", "tipping at thesis N"),
+    ("case_a_count_tipping", "tipping at case A N"),
 )
 
 
@@ -98,7 +99,7 @@ def table_markdown(rows: list[TableRow], d: Derivation, limits: StructureLimits,
         f"{inp.required_tipping:g} at its longest cantilever. Robot counts: N total; launching = at the longest "
         f"cantilever (front at the far edge); bridged = rows split between the ledges. \"thesis N\" is the "
         f"thesis's count (3 n_g, 6 n_g, arch counts); \"tipping at thesis N\" is the rigid tipping factor "
-        f"of this structure built with 3 n_g rows (n_p = 2 n_g).\n\n"
+        f"of this structure built with 3 n_g rows (n_p = 2 n_g), \"case A\" with 3 n_g + 2 rows.\n\n"
         f"## Thresholds\n\n{thresholds_md(d, limits)}\n{cal}\n"
         f"## Table\n\n{head}\n{sep}\n" + "\n".join(body) + "\n\n"
         f"Notes: {limits.notes}\n")

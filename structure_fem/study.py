@@ -256,6 +256,7 @@ class TableRow:
     margin_mm: float | None
     min_tipping_factor: float | None
     thesis_count_tipping: float | None
+    case_a_count_tipping: float | None
 
 
 def _split(s: Structure, rows_initial: int, rows_over: int, rows_target: int) -> tuple[int, int, int]:
@@ -276,7 +277,7 @@ def table(d: Derivation, progress: Callable[[Iterable, str, int], Iterable] | No
         band = next(((s, lo, hi) for s, lo, hi in d.levels if lo <= w <= hi), None)
         if band is None:
             rows_out.append(TableRow(w, "beyond", "none", None, None, None, trob, *([None] * 6), None, None, None,
-                                     None, None))
+                                     None, None, None))
             continue
         s, lo, hi = band
         c = d.curve(s.name)
@@ -293,11 +294,12 @@ def table(d: Derivation, progress: Callable[[Iterable, str, int], Iterable] | No
         bridged = solve(Config(s, R, w + n_o, w, "bridged"), inp.robot, inp.connectors, inp.flexible)
         # Thesis count on this structure: N = 3 n_g rows (n_p = 2 n_g at the longest cantilever).
         t_tip = _rigid_tipping(s, inp, 3 * w, w)
+        a_tip = _rigid_tipping(s, inp, 3 * w + 2, w)  # case A: n_p, n_o >= n_g + 1
         li, lo_, lt = _split(s, R - w, w, 0)
         bi, bo, bt = _split(s, n_p, w, n_o)
         maxdef = max(tips)
         rows_out.append(TableRow(
             w, f"{lo}-{hi}", s.name, s.lines, s.layers, c.robots[i], trob, li, lo_, lt, bi, bo, bt,
             round(maxdef, 3), round(bridged.max_deflection_m * 1e3, 3), round(inp.clearance_m * 1e3 - maxdef, 3),
-            round(min(tfs), 4), round(t_tip, 4)))
+            round(min(tfs), 4), round(t_tip, 4), round(a_tip, 4)))
     return rows_out
