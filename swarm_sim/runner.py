@@ -14,6 +14,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from cubot_cad.errors import InputError as _BaseInputError
+
 from .errors import InputError, InvariantViolation
 from .invariants import lost_robots, violations
 from .params import Params, load_preset, with_limits, with_overrides
@@ -73,7 +75,13 @@ def resolve_params(preset: str, robots: int, void_width: int, limits: str = "der
     if max_time_s is not None:
         ov["max_time_s"] = float(max_time_s)
     p = with_overrides(p, ov).validate()
-    return with_limits(p, load_limits(limits))
+    try:
+        record = load_limits(limits)
+    except InputError:
+        raise
+    except _BaseInputError as exc:  # structure_fem's error: re-raise as swarm_sim's (same message)
+        raise InputError(str(exc)) from None
+    return with_limits(p, record)
 
 
 def initial_poses(p: Params, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -164,8 +172,11 @@ def times_from_events(events: tuple, t_end: float, phase: int) -> dict:
 # ---------------------------------------------------------------------------- run
 
 def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None = None,
-             use_numba: bool | None = None) -> tuple[SwarmState, RunResult]:
-    """Run to the end (target found, retreat finished, or ``max_time_s``)."""
+             use_numba: bool | None = None, until: str | None = None) -> tuple[SwarmState, RunResult]:
+    """Run to the end (target found, retreat finished, or ``max_time_s``); ``until="seed"``
+    stops as soon as the seed is chosen (for seed statistics, which depend on nothing later)."""
+    if until not in (None, "seed"):
+        raise InputError(f"until must be None or 'seed', got {until!r}")
     rng = np.random.default_rng(seed)
     world = World.from_params(p)
     state = init_state(p, rng)
@@ -185,6 +196,8 @@ def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None
                     break
         if on_step is not None:
             on_step(state)
+        if until == "seed" and state.seed_robot >= 0:
+            break
     wall = time.perf_counter() - t0
     times = times_from_events(state.events, state.t_s, state.phase)
     side = world.side_of(state.x_cm)
@@ -207,13 +220,15 @@ def run_scenario(preset: str, robots: int, void_width: int, seed: int, limits: s
     ``void_width``: robot widths; ``seed``: RNG seed; ``limits``: ``derived`` | ``thesis`` |
     path to limits.json; ``max_time_s``: simulated-time cap; ``overrides``: any flat
     :class:`Params` field (``arena_w_cm=800``) plus ``check_invariants=True`` (raise
-    :class:`InvariantViolation` on the first broken invariant).
+    :class:`InvariantViolation` on the first broken invariant) and ``until="seed"`` (stop
+    once the seed is chosen).
     Raises :class:`InputError` on bad input."""
     check = bool(overrides.pop("check_invariants", False))
+    until = overrides.pop("until", None)
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError(f"seed must be a non-negative integer, got {seed!r}")
     p = resolve_params(preset, robots, void_width, limits, max_time_s, **overrides)
-    _, res = simulate(p, int(seed), check=check)
+    _, res = simulate(p, int(seed), check=check, until=until)
     if check and res.violations:
         raise InvariantViolation(res.violations[0])
     return res

@@ -1,22 +1,198 @@
-"""`voidcross sim`: swarm_sim: run, soak and benchmark the swarm simulator.
-
-Placeholder until issue #5 lands: the parser exists so the CLI contract
-holds; running it says honestly that the stage is not built.
-"""
+"""`voidcross sim`: run, soak and benchmark the swarm simulator (swarm_sim, cm and s)."""
 
 from __future__ import annotations
 
 import argparse
-import sys
+import json
+import os
+import tempfile
+import tomllib
+from pathlib import Path
 
-NOT_BUILT = "`voidcross sim` is not built yet (issue #5)"
+from swarm_sim.errors import InputError
+from voidcross.output import emit, out_dir, progress
+
+RUN_EPILOG = """examples:
+  voidcross sim run --preset case-d --robots 9 --void-width 3 --seed 1 --json
+  voidcross sim run --preset case-c --robots 8 --void-width 3 --limits thesis   (retreats: 3w - 1)
+  voidcross sim run --preset case-a --robots 8 --void-width 2 --limits thesis --video run.mp4
+  voidcross sim run --preset case-d --robots 9 --void-width 3 --snapshots snaps --out results/sim
+  voidcross sim run --preset my-arena.toml --robots 20 --void-width 4 --set arena_w_cm=800 --debug
+presets: case-a, case-b, case-c, case-d, large-void (swarm_sim/presets/*.toml) or a TOML path.
+--limits: derived (structure_fem's packaged limits.json, the default), thesis, or a limits.json path.
+Times in the result are simulated seconds: Ts initial exploration, Ta assembly and crossing,
+To target search, Td retreat and disassembly, Tb wander after a retreat, Tt total.
+"""
+
+SOAK_EPILOG = """examples:
+  voidcross sim soak --runs 200 --json
+  voidcross sim soak --runs 1000 --max-time 30 --seed 7
+Each run draws case, swarm size, void width, arena size and seed, checks every invariant
+after every step, and every violation is reported with the draw that caused it.
+"""
+
+BENCH_EPILOG = """examples:
+  voidcross sim bench --robots 10000 --steps 500 --json
+  voidcross sim bench --robots 1000 --steps 200 --no-scaling
+Exploration only (random walk, wall and robot avoidance), arena sized so the robots cover 5 %
+of the floor. robot_steps_per_s is measured in CPU time of this process (the machine may be
+shared); scaling_exponent fits cost per step against N over 1,000..100,000 robots.
+"""
+
+
+def _parse_set(items: list[str] | None) -> dict:
+    out = {}
+    for item in items or []:
+        if "=" not in item:
+            raise InputError(f"--set {item!r}: expected KEY=VALUE")
+        k, v = item.split("=", 1)
+        try:
+            out[k.strip()] = tomllib.loads(f"v = {v.strip()}")["v"]
+        except tomllib.TOMLDecodeError:
+            out[k.strip()] = v.strip()
+    return out
+
+
+def _write_json_atomic(path: Path, payload: dict) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    with os.fdopen(fd, "w") as fh:
+        json.dump(payload, fh, indent=2, allow_nan=False)
+    os.replace(tmp, path)
+
+
+def _under(out: Path, name: str) -> Path:
+    p = Path(name)
+    return p if p.is_absolute() else out / p
 
 
 def run(args: argparse.Namespace) -> int:
-    print(f"error: {NOT_BUILT}", file=sys.stderr)
-    return 1
+    from swarm_sim.runner import resolve_params, simulate
+
+    if args.robots is not None and args.robots < 1:
+        raise InputError(f"--robots {args.robots}: must be >= 1")
+    if args.void_width is not None and args.void_width < 1:
+        raise InputError(f"--void-width {args.void_width}: must be >= 1 (robot widths)")
+    if args.video and Path(args.video).suffix.lower() not in (".mp4", ".gif"):
+        raise InputError(f"--video {args.video}: use a .mp4 or .gif file name")
+    overrides = _parse_set(args.set)
+    from swarm_sim.params import load_preset
+
+    base = load_preset(args.preset)
+    robots = args.robots if args.robots is not None else base.robots
+    width = args.void_width if args.void_width is not None else base.void_width
+    p = resolve_params(args.preset, robots, width, args.limits, args.max_time, **overrides)
+    recorder = None
+    if args.video or args.snapshots:
+        from swarm_sim.render import Recorder
+
+        recorder = Recorder(every_s=args.frame_every)
+    state, res = simulate(p, args.seed, check=args.debug, on_step=recorder)
+    payload = res.to_dict(events=args.events)
+    payload["limits_rule"] = {"ground_ratio": p.ground_ratio, "ground_margin": p.ground_margin,
+                              "line_max_span_widths": p.max_span_widths}
+    files = []
+    wants_files = args.out is not None or args.video or args.snapshots
+    if wants_files:
+        out = out_dir(args.out or "results/sim")
+        if args.video:
+            from swarm_sim.render import write_video
+
+            files.append(str(write_video(recorder.frames, p, _under(out, args.video),
+                                         progress=lambda it, n: progress(it, "rendering video", n))))
+        if args.snapshots:
+            from swarm_sim.render import write_snapshots
+
+            files += [str(f) for f in write_snapshots(recorder.frames, p, _under(out, args.snapshots),
+                                                      progress=lambda it, n: progress(it, "snapshots", n))]
+        if args.out is not None:
+            target = out / f"run-{p.preset}-N{p.robots}-w{p.void_width}-s{args.seed}.json"
+            _write_json_atomic(target, res.to_dict(events=True))
+            files.append(str(target))
+    payload["files"] = files
+    t = res.times
+    outcome = "SUCCESS: crossed and found the target" if res.success else (
+        "RETREATED: too few robots for this void; all back on the initial side" if res.retreated
+        else "TIMEOUT: still running at --max-time")
+    fmt = lambda v: "-" if v is None else f"{v:.2f}"  # noqa: E731
+    human = (f"{p.preset} N={p.robots} void={p.void_width} widths seed={args.seed} limits={p.limits_source} "
+             f"(rule n_p >= {p.ground_ratio:g} n_g + {p.ground_margin}, min robots {p.min_robots_rule or 'n/a'})\n"
+             f"{outcome}; robots lost {res.robots_lost}\n"
+             f"seed robot {res.seed_robot} at {res.seed_position}, target found by {res.target_finder}\n"
+             f"Ts {fmt(t['Ts'])}  Ta {fmt(t['Ta'])}  To {fmt(t['To'])}  Td {fmt(t['Td'])}  "
+             f"Tb {fmt(t['Tb'])}  Tt {fmt(t['Tt'])} s (simulated; {res.steps} steps in {res.wall_s:.1f} s)")
+    if res.violations:
+        human += "\nINVARIANT VIOLATIONS:\n  " + "\n  ".join(res.violations[:10])
+    if files:
+        human += "\nwrote " + ", ".join(files)
+    emit(args, payload, human)
+    return 1 if res.violations else 0
+
+
+def soak(args: argparse.Namespace) -> int:
+    from swarm_sim.soak import soak as do_soak
+
+    rep = do_soak(args.runs, seed=args.seed, max_time_s=args.max_time, limits=args.limits,
+                  progress=lambda it, n: progress(it, "soak", n))
+    human = (f"{rep['runs']} randomised runs ({args.max_time:g} s each, limits {args.limits}): "
+             f"{rep['n_violations']} invariant violations, {rep['robots_lost']} robots lost, "
+             f"{rep['skipped_invalid']} draws rejected as invalid input; outcomes {rep['outcomes']}")
+    for v in rep["violations"][:20]:
+        human += f"\n  {v}"
+    emit(args, rep, human)
+    return 1 if rep["n_violations"] or rep["robots_lost"] else 0
+
+
+def bench(args: argparse.Namespace) -> int:
+    from swarm_sim.bench import bench as do_bench
+
+    scaling = () if args.no_scaling else (1_000, 3_000, 10_000, 30_000, 100_000)
+    rep = do_bench(args.robots, args.steps, scaling=scaling, use_numba=False if args.no_numba else None,
+                   progress=lambda it, n: progress(it, "scaling", n))
+    human = (f"{rep['robots']} robots x {rep['steps']} steps: {rep['robot_steps_per_s']:.3g} robot-steps/s "
+             f"(CPU time; {rep['robot_steps_per_wall_s']:.3g} per wall second, load {rep['load_average_1min']}), "
+             f"numba={rep['numba']}\n"
+             f"scaling exponent (cost vs robots, 1e3..1e5): {rep['scaling_exponent']}\n"
+             f"state of 100,000 robots: {rep['state_bytes_100k'] / 2**20:.1f} MiB; "
+             f"process peak RSS {rep['peak_rss_bytes'] / 2**20:.0f} MiB")
+    emit(args, rep, human)
+    return 0
 
 
 def register(sub, common) -> None:
-    p = sub.add_parser("sim", parents=[common], help="swarm_sim: run, soak and benchmark the swarm simulator (not built yet)")
-    p.set_defaults(func=run)
+    p = sub.add_parser("sim", parents=[common], help="swarm_sim: run, soak and benchmark the swarm simulator",
+                       formatter_class=argparse.RawDescriptionHelpFormatter, epilog=RUN_EPILOG)
+    ss = p.add_subparsers(dest="sim_command", metavar="SUBCOMMAND", parser_class=type(p))
+    p.set_defaults(func=lambda a: (p.print_help(), 0)[1])
+
+    r = ss.add_parser("run", parents=[common], help="one run; prints outcome, times, seed and finder",
+                      formatter_class=argparse.RawDescriptionHelpFormatter, epilog=RUN_EPILOG)
+    r.add_argument("--preset", default="case-d", help="preset name or TOML path (default case-d)")
+    r.add_argument("--robots", type=int, default=None, help="swarm size (default: the preset's)")
+    r.add_argument("--void-width", type=int, default=None, help="void width in robot widths (default: preset's)")
+    r.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
+    r.add_argument("--limits", default="derived", help="derived | thesis | path to limits.json")
+    r.add_argument("--max-time", type=float, default=None, help="simulated-time cap in s (default: preset's)")
+    r.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a preset value, e.g. arena_w_cm=800")
+    r.add_argument("--video", help="write a .mp4 or .gif of the run (under --out)")
+    r.add_argument("--snapshots", metavar="DIR", help="write PNG snapshots into DIR (under --out)")
+    r.add_argument("--frame-every", type=float, default=0.5, help="simulated s between video frames (default 0.5)")
+    r.add_argument("--events", action="store_true", help="include the event log in --json output")
+    r.add_argument("--out", default=None, help="output directory (default results/sim when writing files)")
+    r.set_defaults(func=run)
+
+    s = ss.add_parser("soak", parents=[common], help="many randomised short runs; reports every violation",
+                      formatter_class=argparse.RawDescriptionHelpFormatter, epilog=SOAK_EPILOG)
+    s.add_argument("--runs", type=int, default=100)
+    s.add_argument("--seed", type=int, default=0)
+    s.add_argument("--max-time", type=float, default=60.0, help="simulated s per run (default 60)")
+    s.add_argument("--limits", default="thesis", help="derived | thesis | path (default thesis)")
+    s.set_defaults(func=soak)
+
+    b = ss.add_parser("bench", parents=[common], help="exploration-only throughput and scaling",
+                      formatter_class=argparse.RawDescriptionHelpFormatter, epilog=BENCH_EPILOG)
+    b.add_argument("--robots", type=int, default=10_000)
+    b.add_argument("--steps", type=int, default=500)
+    b.add_argument("--no-scaling", action="store_true", help="skip the 1e3..1e5 scaling sweep")
+    b.add_argument("--no-numba", action="store_true", help="force the numpy back-end")
+    b.set_defaults(func=bench)

@@ -1,0 +1,90 @@
+"""The stability rule is exact on the rigid line, and its inputs (the limits) move its result."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import pytest
+
+from swarm_sim import structure as S
+from swarm_sim.params import Params
+from swarm_sim.state import Structure
+
+THESIS = replace(Params(), ground_ratio=2.0, ground_margin=0, max_span_widths=5)
+
+
+def counts(front_widths: float, n: int, w: int) -> S.Counts:
+    return S.counts_at(front_widths * 10.0, n, 10.0, w * 10.0)
+
+
+def test_counts_by_centre_of_mass():
+    assert counts(0, 3, 1) == S.Counts(3, 0, 0)
+    assert counts(1, 3, 1) == S.Counts(2, 1, 0)
+    assert counts(2, 3, 1) == S.Counts(1, 1, 1)
+    assert counts(3, 3, 1) == S.Counts(0, 1, 2)
+    assert counts(3.4, 3, 2) == S.Counts(0, 2, 1)   # centres at 2.9, 1.9, 0.9 widths
+
+
+@pytest.mark.parametrize("c,ok", [
+    (S.Counts(2, 1, 0), True), (S.Counts(1, 1, 0), False),        # n_p = 2 n_g to hold the cantilever
+    (S.Counts(6, 3, 0), True), (S.Counts(5, 3, 0), False),
+    (S.Counts(3, 3, 3), True), (S.Counts(2, 3, 3), False),        # bridged: n_p = n_g = n_o
+    (S.Counts(0, 2, 4), True), (S.Counts(0, 2, 3), False),        # cantilever from the target side
+    (S.Counts(0, 1, 0), False), (S.Counts(4, 0, 0), True),
+])
+def test_thesis_rule(c, ok):
+    assert S.stable(c, THESIS) is ok
+
+
+def test_rule_moves_with_the_limits():
+    assert not S.stable(S.Counts(3, 2, 0), THESIS)
+    assert S.stable(S.Counts(3, 2, 0), replace(THESIS, ground_ratio=1.0, ground_margin=1))
+    assert not S.stable(S.Counts(4, 1, 0), replace(THESIS, ground_margin=3))
+    assert not S.stable(S.Counts(20, 6, 0), THESIS)                      # wider than the line may span
+
+
+def line(n: int, front_widths: float, landed=False, retreating=False) -> Structure:
+    return Structure(members=tuple(range(n)), origin_x_cm=235.0, origin_y_cm=150.0, dir_x=1.0, dir_y=0.0,
+                     front_s_cm=front_widths * 10.0, action="idle", landed=landed, retreating=retreating)
+
+
+def params(w: int, **kw) -> Params:
+    return replace(THESIS, void_width=w, **kw)
+
+
+def test_decision_table_launch_recruit_advance_retreat():
+    p = params(3)
+    assert S.decide(line(1, 0), p, True, True)[0] == "recruit"          # fewer than 3: recruit
+    assert S.decide(line(3, 0), p, True, True)[0] == "advance"          # 3 robots: launch
+    assert S.decide(line(3, 1), p, True, True)[0] == "recruit"          # (2,1,0): n_p = 2 n_g, recruit
+    assert S.decide(line(6, 2), p, False, True)[0] == "retreat"         # no free robot, no far ledge
+    assert S.decide(line(6, 2), p, True, True)[0] == "recruit"
+    assert S.decide(line(6, 2), p, True, False)[0] == "retreat"         # dock point off the arena
+
+
+def test_decision_table_bridged_and_delivery():
+    p = params(1)
+    assert S.decide(line(3, 1, landed=True), p, False, True)[0] == "advance"       # (2,1,0) -> (1,1,1)
+    assert S.decide(line(3, 2, landed=True), p, True, True)[0] == "recruit"        # (1,1,1): keep n_p
+    assert S.decide(line(4, 2, landed=True), p, True, True)[0] == "release_front"  # (2,1,1) -> (2,1,0)
+    assert S.decide(line(3, 3, landed=True), p, False, True)[0] == "advance"       # (0,1,2) can't release
+    assert S.decide(line(3, 4, landed=True), p, False, True)[0] == "release_front"
+
+
+def test_retreat_table_releases_rear_only_when_stable():
+    p = params(2)
+    assert S.decide(line(5, 1, retreating=True), p, False, True)[0] == "release_rear"  # (4,1,0) -> (3,1,0)
+    assert S.decide(line(3, 1, retreating=True), p, False, True)[0] == "back"          # (2,1,0) needs all
+    assert S.decide(line(1, 0, retreating=True), p, False, True)[0] == "release_rear"
+
+
+def test_span_limit_forces_retreat():
+    p = params(3, max_span_widths=2)
+    assert S.decide(line(9, 2), p, True, True)[0] == "retreat"
+
+
+def test_moves_checked_through_every_intermediate_configuration():
+    p = params(1)
+    assert S.move_stable(0.0, 10.0, 3, p)
+    assert not S.move_stable(0.0, 10.0, 2, p)
+    assert S.move_stable(10.0, 20.0, 3, p)          # (2,1,0) -> (1,1,1)
