@@ -46,7 +46,7 @@ class FrontRearSpec:
     head_mm: float = 1.8
     blade_mm: float = 2.4
     pocket_depth_mm: float = 3.0
-    pin_circle_mm: float = 8.0
+    pin_circle_mm: float = 7.0
     block_mm: float = 36.0
     blade_radius_mm: float = 16.0
     blade_turn_deg: float = 15.0
@@ -76,11 +76,16 @@ class FrontRearSpec:
         need(spacing >= self.head_diameter_mm + 2 * c + MIN_WALL_MM,
              f"pin_circle_mm {self.pin_circle_mm:g} puts the pin heads closer than a printable wall")
         need(5.0 <= self.blade_turn_deg <= 45.0, f"blade_turn_deg {self.blade_turn_deg:g} must be in 5..45")
-        # The arc slots must stay inside the triangular blade.
-        inradius_along = self.blade_radius_mm / 2 / math.cos(math.radians(60 - self.blade_turn_deg))
-        need(inradius_along >= self.pin_circle_mm + self.slot_width_mm / 2 + MIN_WALL_MM,
+        # The arc slots and entry holes must leave a printable wall to the triangle's edges
+        # (perpendicular distance from a point at radius rho, angle a off a vertex: R/2 - rho cos(60 - a)).
+        inr = self.blade_radius_mm / 2
+        th = math.radians(self.blade_turn_deg)
+        wall_slot = inr - self.pin_circle_mm * math.cos(math.radians(60) - th) - self.slot_width_mm / 2
+        wall_entry = inr - self.pin_circle_mm * math.cos(math.radians(60)) - self.pin_diameter_mm / 2 - c
+        need(min(wall_slot, wall_entry) >= MIN_WALL_MM,
              f"blade_radius_mm {self.blade_radius_mm:g} is too small for pin_circle_mm {self.pin_circle_mm:g} "
-             f"and blade_turn_deg {self.blade_turn_deg:g} (slots break the blade's edge)")
+             f"and blade_turn_deg {self.blade_turn_deg:g}: the slots leave a {min(wall_slot, wall_entry):.2f} mm "
+             f"wall to the blade's edge (< {MIN_WALL_MM:g} mm)")
         need(self.blade_radius_mm >= self.pin_circle_mm + self.pin_diameter_mm / 2 + c + MIN_WALL_MM,
              f"blade_radius_mm {self.blade_radius_mm:g} does not cover the pin holes")
         need(self.block_mm / 2 >= self.blade_radius_mm + c + MIN_WALL_MM,

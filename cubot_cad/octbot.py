@@ -94,7 +94,7 @@ class OctRing(Part):
         body = plate.fuse(tube).clean()
         bore = cyl(s.undercut_radius_mm, s.undercut_mm + 0.01, (s.plate_mm, 0, zc), X)
         lip = cyl(s.lip_radius_mm, s.lip_mm + 0.2, (s.plate_mm + s.undercut_mm - 0.1, 0, zc), X)
-        screws = [cyl(1.7, s.plate_mm + 0.2, (-0.1, y, zc), X) for y in (-h + 2.2, h - 2.2)]
+        screws = [cyl(1.7, s.plate_mm + 0.2, (-0.1, y, zc), X) for y in (-h + 3.5, h - 3.5)]
         return cut_all(body, [bore, lip] + screws)
 
 

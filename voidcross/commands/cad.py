@@ -1,22 +1,308 @@
 """`voidcross cad`: cubot_cad: parametric robots, printable exports, mass properties.
 
-Placeholder until issue #3 lands: the parser exists so the CLI contract
-holds; running it says honestly that the stage is not built.
+Sub-commands: ``export`` (STL/STEP/3MF per part, manifest, robot_properties.json,
+docked pairs), ``dock`` (docked-pair gaps and interference), ``check``
+(printability of exported STLs), ``render`` (PNG of robots and docked pairs),
+``bench`` (time of a full export in a fresh process). cadquery is imported
+only when a sub-command runs.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+import math
+import subprocess
 import sys
+import time
+from pathlib import Path
 
-NOT_BUILT = "`voidcross cad` is not built yet (issue #3)"
+from voidcross.output import emit, out_dir, progress
+
+EPILOG = """examples:
+  voidcross cad export                            all robots: STL + STEP + manifest into exports/
+  voidcross cad export --robot cubot --format stl,step,3mf --material pla --out /tmp/cubot
+  voidcross cad export --clearance-mm 0.3         looser fit for a worn printer
+  voidcross cad dock --json                       docked gaps and interference of every coupling
+  voidcross cad check exports/                    watertight, manifold, bed, thinnest wall, slicing
+  voidcross cad render --out /tmp/img --docs      PNGs of robots and docked pairs (+ docs/img)
+  voidcross cad bench                             time `cad export --robot all` incl. import (goal 60 s)
+"""
+
+DEFAULT_OUT = "exports"
+BENCH_GOAL_S = 60.0
 
 
-def run(args: argparse.Namespace) -> int:
-    print(f"error: {NOT_BUILT}", file=sys.stderr)
-    return 1
+def _clearance(value: str) -> float:
+    try:
+        v = float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--clearance-mm {value!r} is not a number") from None
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"--clearance-mm {value!r} is not a finite number")
+    return v
+
+
+def _bar(items, desc, total):
+    return progress(items, desc, total)
+
+
+def _docked(robots, clearance):
+    from cubot_cad.docking import dock, pairs_for
+
+    names = pairs_for(robots)
+    pairs = []
+    for n in progress(names, "docking", len(names)):
+        pairs.append(dock(n, clearance))
+    return pairs
+
+
+def do_export(out: Path, robots, formats, material: str, clearance: float, with_dock: bool = True,
+              packaged_default: bool = False) -> dict:
+    from cubot_cad.docking import measured_gaps
+    from cubot_cad.export import export_robots
+    from cubot_cad.jsonrecord import read_json, write_json_atomic
+    from cubot_cad.part import check_clearance
+    from cubot_cad.part import material as mat
+
+    check_clearance(clearance, "--clearance-mm")
+    mat(material)
+    t0 = time.perf_counter()
+    pairs = _docked(robots, clearance) if with_dock else []
+    res = export_robots(robots, out, formats, material, clearance, progress=_bar,
+                        gaps=measured_gaps(pairs) if pairs else None)
+    summary = [p.summary() for p in pairs]
+    if pairs:
+        manifest = read_json(res.manifest)
+        manifest["docked_pairs"] = summary
+        write_json_atomic(res.manifest, manifest)
+    payload = {
+        "out": str(out), "material": material.upper(), "clearance_mm": clearance, "formats": list(formats),
+        "parts": len(res.parts), "printed_items": sum(p.quantity for p in res.parts),
+        "all_watertight": all(p.watertight for p in res.parts), "robots": {
+            k: {kk: v[kk] for kk in ("printed_mass_g", "total_mass_g", "com_mm", "envelope_mm")}
+            for k, v in res.robots.items()},
+        "docked_pairs": summary, "manifest": str(res.manifest), "robot_properties": str(res.properties),
+        "step": res.step_files, "seconds": round(time.perf_counter() - t0, 2),
+    }
+    if packaged_default:
+        from cubot_cad.export import ROBOT_NAMES
+        from cubot_cad.properties import RobotPropertiesFile, default_properties_path
+
+        if tuple(robots) != ROBOT_NAMES:
+            from cubot_cad.errors import InputError
+
+            raise InputError("--packaged-default needs --robot all (the packaged file lists every robot)")
+        RobotPropertiesFile.load(res.properties).save(default_properties_path())
+        payload["packaged_default"] = str(default_properties_path())
+    return payload
+
+
+def run_export(args) -> int:
+    from cubot_cad.export import parse_formats, parse_robots
+
+    robots = parse_robots(args.robot)
+    formats = parse_formats(args.format)
+    payload = do_export(out_dir(args.out), robots, formats, args.material, args.clearance_mm,
+                        with_dock=not args.no_dock, packaged_default=args.packaged_default)
+    lines = [f"exported {payload['parts']} distinct parts ({payload['printed_items']} printed items) of "
+             f"{', '.join(robots)} to {payload['out']} in {payload['seconds']:.1f} s "
+             f"({payload['material']}, clearance {args.clearance_mm:g} mm)"]
+    for name, r in payload["robots"].items():
+        lines.append(f"  {name}: printed {r['printed_mass_g']:.1f} g, total {r['total_mass_g']:.1f} g, "
+                     f"COM {r['com_mm']} mm")
+    for p in payload["docked_pairs"]:
+        lines.append(f"  {p['pair']}: gap {p['gap_mm']:.2f} mm, interference {p['interference_mm3']:.3f} mm^3")
+    lines.append(f"  manifest: {payload['manifest']}\n  properties: {payload['robot_properties']}")
+    if "packaged_default" in payload:
+        lines.append(f"  packaged default updated: {payload['packaged_default']}")
+    emit(args, payload, "\n".join(lines))
+    return 0 if payload["all_watertight"] else 1
+
+
+def run_dock(args) -> int:
+    from cubot_cad.docking import PAIRS, dock
+    from cubot_cad.errors import InputError
+    from cubot_cad.part import check_clearance
+
+    check_clearance(args.clearance_mm, "--clearance-mm")
+    names = PAIRS if args.pair == "all" else tuple(p.strip() for p in args.pair.split(","))
+    for n in names:
+        if n not in PAIRS:
+            raise InputError(f"--pair {n!r} is not one of {', '.join(PAIRS)}, all")
+    pairs = [dock(n, args.clearance_mm) for n in progress(names, "docking", len(names))]
+    rows = [p.summary() for p in pairs]
+    if args.out:
+        from cubot_cad.jsonrecord import write_json_atomic
+
+        d = out_dir(args.out)
+        write_json_atomic(d / "docked_pairs.json", {"clearance_mm": args.clearance_mm, "pairs": rows})
+        if args.step:
+            for p in pairs:
+                p.assembly().export(str(d / f"{p.name}.step"), exportType="STEP")
+    human = "\n".join(f"{r['pair']:<24} gap {r['gap_mm']:7.3f} mm   interference {r['interference_mm3']:.4f} mm^3"
+                      + (f"   lateral play {r['play_mm']:.3f} mm" if "play_mm" in r else "")
+                      + ("" if r["ok"] else "   FAIL (> 1 mm^3)") for r in rows)
+    emit(args, {"clearance_mm": args.clearance_mm, "pairs": rows}, human)
+    return 0 if all(r["ok"] for r in rows) else 1
+
+
+def run_check(args) -> int:
+    from cubot_cad.check import check_file, slicer_path, stl_files
+    from cubot_cad.errors import InputError
+
+    if args.samples < 100:
+        raise InputError(f"--samples {args.samples} is too few for the thin-wall probe (>= 100)")
+    root = Path(args.dir)
+    files = stl_files(root)
+    do_slice = not args.no_slice
+    results = [check_file(f, root, do_slice=do_slice, samples=args.samples)
+               for f in progress(files, "cad check", len(files))]
+    rows = []
+    for r in results:
+        row = dict(vars(r))
+        row["ok"] = r.ok
+        rows.append(row)
+    bad = [r for r in results if not r.ok]
+    slicer = slicer_path()
+    payload = {"dir": str(root), "files": len(results), "failed": len(bad),
+               "slicer": slicer or None,
+               "slicing": "ran" if (slicer and do_slice) else ("disabled (--no-slice)" if not do_slice else
+                                                               "skipped: prusa-slicer not on PATH"),
+               "parts": rows}
+    lines = []
+    for r in results:
+        flags = []
+        if not r.watertight:
+            flags.append("not watertight")
+        if not r.manifold:
+            flags.append("not manifold")
+        if not r.fits_bed:
+            flags.append(f"does not fit the bed ({r.size_mm})")
+        if not r.wall_ok:
+            flags.append(f"thinnest wall {r.thinnest_wall_mm} mm < 0.8 mm")
+        sl = r.slice or {}
+        sliced = (f", print {sl.get('print_time')}, {sl.get('filament_g')} g" if sl.get("ok") else "")
+        lines.append(f"{'ok  ' if r.ok else 'FAIL'} {r.file}: wall >= {r.thinnest_wall_mm} mm, "
+                     f"size {r.size_mm} mm{sliced}" + (f" [{'; '.join(flags)}]" if flags else ""))
+    lines.append(f"{len(results) - len(bad)}/{len(results)} parts printable; slicing: {payload['slicing']}")
+    emit(args, payload, "\n".join(lines))
+    return 0 if not bad else 1
+
+
+def run_render(args) -> int:
+    from cubot_cad.docking import dock, pairs_for
+    from cubot_cad.export import make_robot, parse_robots
+    from cubot_cad.render import render_pair, render_robot
+
+    robots = parse_robots(args.robot)
+    d = out_dir(args.out)
+    targets = [d] + ([Path("docs/img")] if args.docs else [])
+    written = []
+    jobs = [("robot", r) for r in robots] + ([("pair", p) for p in pairs_for(robots)] if not args.no_pairs else [])
+    for kind, name in progress(jobs, "render", len(jobs)):
+        for t in targets:
+            if kind == "robot":
+                written.append(str(render_robot(make_robot(name, args.clearance_mm), t / f"{name}.png")))
+            else:
+                written.append(str(render_pair(dock(name, args.clearance_mm), t / f"{name}.png")))
+    emit(args, {"files": written}, "\n".join(written))
+    return 0
+
+
+def run_bench(args) -> int:
+    """Run `voidcross cad export --robot all` in a fresh interpreter (cadquery import included)."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as td:
+        cmd = [sys.executable, "-m", "voidcross.cli", "cad", "export", "--robot", "all", "--out", td, "--json"]
+        t0 = time.perf_counter()
+        proc = subprocess.run(cmd, capture_output=True, text=True)
+        wall = time.perf_counter() - t0
+    if proc.returncode != 0:
+        print(proc.stderr.strip().splitlines()[-1] if proc.stderr.strip() else "export failed", file=sys.stderr)
+        return 1
+    inner = json.loads(proc.stdout)
+    payload = {"command": " ".join(cmd[1:4] + cmd[4:7]) + " --out TMP", "wall_s": round(wall, 2),
+               "export_s_in_process": inner["seconds"], "import_and_startup_s": round(wall - inner["seconds"], 2),
+               "goal_s": BENCH_GOAL_S, "ratio_to_goal": round(wall / BENCH_GOAL_S, 3)}
+    emit(args, payload, f"cad export --robot all: {wall:.1f} s wall incl. cadquery import "
+                        f"({payload['ratio_to_goal']:.2f} x the {BENCH_GOAL_S:g} s goal; "
+                        f"in-process export {inner['seconds']:.1f} s)")
+    return 0
+
+
+def pipeline_stage(out: Path, ctx: dict) -> str:
+    from voidcross.pipeline import StageUnavailable
+
+    try:
+        import cadquery  # noqa: F401
+        import manifold3d  # noqa: F401
+        import trimesh  # noqa: F401
+    except ImportError as exc:
+        raise StageUnavailable(f"cadquery/trimesh/manifold3d not installed ({exc.name}); "
+                               "using the packaged robot_properties.json") from None
+    from cubot_cad.export import ROBOT_NAMES
+
+    out = Path(out)
+    payload = do_export(out, ROBOT_NAMES, ("stl", "step"), "abs", 0.2)
+    ctx["robot_properties"] = payload["robot_properties"]
+    ctx["cad_dir"] = str(out)
+    cub = payload["robots"]["cubot"]
+    gaps = ", ".join(f"{p['pair']} {p['gap_mm']:.1f} mm" for p in payload["docked_pairs"]
+                     if p["pair"] in ("cubot-front-rear", "cube-robot-front-rear", "octbot-ring"))
+    return (f"{payload['parts']} printable parts of {len(ROBOT_NAMES)} robots, CuBot {cub['total_mass_g']:.0f} g "
+            f"(printed {cub['printed_mass_g']:.0f} g); docked gaps {gaps}; {out}/robot_properties.json")
 
 
 def register(sub, common) -> None:
-    p = sub.add_parser("cad", parents=[common], help="cubot_cad: parametric robots, printable exports, mass properties (not built yet)")
-    p.set_defaults(func=run)
+    p = sub.add_parser("cad", parents=[common], help="cubot_cad: parametric robots, printable exports, mass properties",
+                       description=__doc__.split("\n\n")[0], epilog=EPILOG,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    csub = p.add_subparsers(dest="cad_command", metavar="SUBCOMMAND", parser_class=type(p))
+    p.set_defaults(func=lambda a: (p.print_help(), 0)[1])
+
+    def add_common(q, robot=True):
+        if robot:
+            q.add_argument("--robot", default="all", help="cubot, octbot, cube-robot, platform, a comma list or all")
+        q.add_argument("--clearance-mm", type=_clearance, default=0.2, metavar="MM",
+                       help="print clearance per side on every mating pair (default 0.2)")
+
+    e = csub.add_parser("export", parents=[common], help="printable STL/STEP/3MF per part, manifest, robot_properties.json",
+                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_common(e)
+    e.add_argument("--out", default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT}/)")
+    e.add_argument("--format", default="stl,step", help="comma list of stl, step, 3mf (default stl,step)")
+    e.add_argument("--material", default="abs", help="abs (1.04 g/cm^3, default) or pla (1.24 g/cm^3)")
+    e.add_argument("--no-dock", action="store_true",
+                   help="skip the docked pairs (connector gaps then come from the connector geometry alone)")
+    e.add_argument("--packaged-default", action="store_true",
+                   help="maintainers: also write cubot_cad/data/robot_properties.json (needs --robot all)")
+    e.set_defaults(func=run_export)
+
+    d = csub.add_parser("dock", parents=[common], help="docked pairs: gap and interference of every coupling",
+                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_common(d, robot=False)
+    d.add_argument("--pair", default="all", help="pair name(s) or all (see cubot_cad.docking.PAIRS)")
+    d.add_argument("--out", default=None, help="also write docked_pairs.json (and --step assemblies) here")
+    d.add_argument("--step", action="store_true", help="with --out: a STEP assembly per pair")
+    d.set_defaults(func=run_dock)
+
+    c = csub.add_parser("check", parents=[common], help="printability of exported STLs",
+                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    c.add_argument("dir", nargs="?", default=DEFAULT_OUT, help=f"directory of STLs (default {DEFAULT_OUT}/)")
+    c.add_argument("--no-slice", action="store_true", help="do not run prusa-slicer even if installed")
+    c.add_argument("--samples", type=int, default=3000, help="surface samples of the thin-wall probe (default 3000)")
+    c.set_defaults(func=run_check)
+
+    r = csub.add_parser("render", parents=[common], help="PNG renders of robots and docked pairs",
+                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_common(r)
+    r.add_argument("--out", default=f"{DEFAULT_OUT}/img", help=f"output directory (default {DEFAULT_OUT}/img)")
+    r.add_argument("--docs", action="store_true", help="also write docs/img/")
+    r.add_argument("--no-pairs", action="store_true", help="robots only")
+    r.set_defaults(func=run_render)
+
+    b = csub.add_parser("bench", parents=[common], help="time `cad export --robot all` incl. the cadquery import",
+                        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    b.set_defaults(func=run_bench)

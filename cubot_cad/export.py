@@ -1,0 +1,265 @@
+"""Printable exports: one binary STL (and optionally 3MF) per distinct printable
+part laid flat, one STEP assembly per robot, ``manifest.json`` and
+``robot_properties.json`` (SI record for `structure_fem`).
+
+Layout under the output directory::
+
+    manifest.json                 per part: robot, file, quantity, volume, bbox, mass, watertight
+    robot_properties.json         RobotPropertiesFile of the exported robots
+    <robot>/<part>.stl            binary STL, mm, oriented flat (z >= 0)
+    <robot>/<part>.3mf            with --format 3mf
+    <robot>.step                  STEP assembly (printed parts + stand-ins for bought parts)
+
+Every file is written atomically (temporary file + rename).
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import time
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+
+from .errors import InputError
+from .jsonrecord import read_json, write_json_atomic
+from .part import BED_MM, DEFAULT_CLEARANCE_MM, check_clearance, material
+
+ROBOT_NAMES = ("cubot", "octbot", "cube-robot", "platform")
+FORMATS = ("stl", "step", "3mf")
+MANIFEST_SCHEMA = 1
+#: Tessellation of exported meshes (mm, rad).
+STL_TOLERANCE_MM = 0.02
+STL_ANGULAR_RAD = 0.15
+
+
+def make_robot(name: str, clearance_mm: float = DEFAULT_CLEARANCE_MM):
+    """The robot model ``name`` with the given print clearance (shared instance: parts build once)."""
+    check_clearance(clearance_mm, "--clearance-mm")
+    return _make_robot(name, float(clearance_mm))
+
+
+@lru_cache(maxsize=32)
+def _make_robot(name: str, clearance_mm: float):
+    if name == "cubot":
+        from .cubot import CuBot
+
+        return CuBot(clearance_mm=clearance_mm)
+    if name == "octbot":
+        from .octbot import OctBot
+
+        return OctBot(clearance_mm=clearance_mm)
+    if name == "cube-robot":
+        from .cube_robot import CubeRobot
+
+        return CubeRobot(clearance_mm=clearance_mm)
+    if name == "platform":
+        from .platform import TestPlatform
+
+        return TestPlatform(clearance_mm=clearance_mm)
+    raise InputError(f"--robot {name!r} is not one of {', '.join(ROBOT_NAMES)}, all")
+
+
+def parse_robots(value: str) -> tuple[str, ...]:
+    items = [v.strip() for v in str(value).split(",") if v.strip()]
+    if not items:
+        raise InputError("--robot is empty")
+    if items == ["all"]:
+        return ROBOT_NAMES
+    for v in items:
+        if v not in ROBOT_NAMES:
+            raise InputError(f"--robot {v!r} is not one of {', '.join(ROBOT_NAMES)}, all")
+    return tuple(dict.fromkeys(items))
+
+
+def parse_formats(value: str) -> tuple[str, ...]:
+    items = [v.strip().lower() for v in str(value).split(",") if v.strip()]
+    if not items:
+        raise InputError("--format is empty")
+    for v in items:
+        if v not in FORMATS:
+            raise InputError(f"--format {v!r} is not one of {', '.join(FORMATS)}")
+    return tuple(dict.fromkeys(items))
+
+
+def _atomic_bytes(path: Path, data: bytes) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def _atomic_via(path: Path, writer: Callable[[str], None]) -> None:
+    """Let ``writer`` write a temporary file next to ``path``, then rename it into place."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
+    os.close(fd)
+    try:
+        writer(tmp)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def mesh_of(shape, tolerance: float = STL_TOLERANCE_MM, angular: float = STL_ANGULAR_RAD):
+    """Tessellate an OCC shape into a trimesh.Trimesh (mm)."""
+    import numpy as np
+    import trimesh
+
+    verts, tris = shape.tessellate(tolerance, angular)
+    v = np.array([(p.x, p.y, p.z) for p in verts], dtype=float)
+    f = np.array(tris, dtype=np.int64).reshape(-1, 3)
+    mesh = trimesh.Trimesh(vertices=v, faces=f, process=True)
+    mesh.merge_vertices()
+    # OCC leaves zero-area slivers at sphere poles and seams: drop them
+    mesh.update_faces(mesh.nondegenerate_faces())
+    mesh.remove_unreferenced_vertices()
+    return mesh
+
+
+@dataclass
+class PartRecord:
+    robot: str
+    part: str
+    description: str
+    file: str
+    quantity: int
+    volume_mm3: float
+    mesh_volume_mm3: float
+    bbox_mm: list[float]
+    size_mm: list[float]
+    mass_g: float
+    watertight: bool
+    fits_bed: bool
+    extra_files: list[str] = field(default_factory=list)
+
+
+@dataclass
+class ExportResult:
+    out: Path
+    material: str
+    clearance_mm: float
+    parts: list[PartRecord]
+    robots: dict
+    step_files: list[str]
+    seconds: float
+    manifest: Path
+    properties: Path
+
+
+def export_robots(robots: Iterable[str], out: str | os.PathLike, formats: Iterable[str] = ("stl", "step"),
+                  material_name: str = "abs", clearance_mm: float = DEFAULT_CLEARANCE_MM,
+                  progress: Callable | None = None, gaps: dict[str, dict[str, float]] | None = None) -> ExportResult:
+    """Export the named robots' printable parts, assemblies, manifest and properties under ``out``.
+
+    ``gaps`` (robot -> coupling kind -> mm) passes docked gaps measured by
+    :mod:`cubot_cad.docking` into the connector records; without it the
+    geometric design gap of each connector is used.
+    """
+    t0 = time.perf_counter()
+    robots = tuple(robots)
+    formats = tuple(formats)
+    mat = material(material_name)
+    check_clearance(clearance_mm, "--clearance-mm")
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    models = {name: make_robot(name, clearance_mm) for name in robots}
+    jobs = [(name, part, qty) for name, r in models.items() for part, qty in r.printable_parts()]
+    it = progress(jobs, "cad export", len(jobs)) if progress else jobs
+    records: list[PartRecord] = []
+    rho = mat["density_kg_m3"]
+    for name, part, qty in it:
+        shape = part.printable
+        mesh = mesh_of(shape)
+        rel = f"{name}/{part.name}.stl"
+        extra = []
+        if "stl" in formats:
+            _atomic_bytes(out / rel, mesh.export(file_type="stl"))
+        if "3mf" in formats:
+            import cadquery as cq
+
+            rel3 = f"{name}/{part.name}.3mf"
+            _atomic_via(out / rel3, lambda p, s=shape: cq.exporters.export(s, p, tolerance=STL_TOLERANCE_MM,
+                                                                           angularTolerance=STL_ANGULAR_RAD))
+            extra.append(rel3)
+        bb = shape.BoundingBox()
+        size = sorted([bb.xlen, bb.ylen, bb.zlen])
+        bed = sorted(BED_MM)
+        records.append(PartRecord(
+            robot=name, part=part.name, description=part.description,
+            file=rel if "stl" in formats else "", quantity=qty,
+            volume_mm3=round(part.volume_mm3, 4), mesh_volume_mm3=round(float(mesh.volume), 4),
+            bbox_mm=[round(v, 4) for v in (bb.xmin, bb.ymin, bb.zmin, bb.xmax, bb.ymax, bb.zmax)],
+            size_mm=[round(bb.xlen, 4), round(bb.ylen, 4), round(bb.zlen, 4)],
+            mass_g=round(part.volume_mm3 * 1e-9 * rho * 1e3, 4),
+            watertight=bool(mesh.is_watertight and mesh.is_volume),
+            fits_bed=all(s <= b for s, b in zip(size, bed, strict=True)), extra_files=extra))
+    step_files = []
+    if "step" in formats:
+        for name, r in models.items():
+            rel = f"{name}.step"
+            assy = r.assembly()
+            _atomic_via(out / rel, lambda p, a=assy: a.export(p, exportType="STEP"))
+            step_files.append(rel)
+    from .properties import RobotPropertiesFile
+
+    source = (f"cubot_cad CAD export (material {material_name.upper()}, clearance {clearance_mm:g} mm): "
+              "mass/COM/inertia = printed parts (OCC) + non-printed component table; exposed heights measured "
+              "on the wheel/caster solids; connector stiffness = documented estimate (structure_fem calibrates)")
+    props = {}
+    for name, r in models.items():
+        props[name] = r.robot_properties(material_name, source=source) if not gaps or name not in gaps else \
+            _with_gaps(r, material_name, source, gaps[name])
+    pfile = RobotPropertiesFile(robots=tuple(props.values()))
+    ppath = pfile.save(out / "robot_properties.json")
+    robots_summary = {}
+    for name, r in models.items():
+        mp = r.mass_properties(material_name)
+        robots_summary[name] = {
+            "title": r.title, "envelope_mm": list(r.envelope_mm), "printed_mass_g": round(mp.printed_mass_kg * 1e3, 3),
+            "total_mass_g": round(mp.mass_kg * 1e3, 3), "com_mm": [round(c * 1e3, 3) for c in mp.com_m],
+            "step": f"{name}.step" if "step" in formats else None,
+            "printable_parts": sum(q for _, q in r.printable_parts()),
+            "components": __import__("cubot_cad.components", fromlist=["component_table"]).component_table(
+                r.components()),
+        }
+    manifest = {
+        "schema_version": MANIFEST_SCHEMA, "units": "mm, g", "material": material_name.upper(),
+        "density_kg_m3": rho, "clearance_mm": clearance_mm, "bed_mm": list(BED_MM),
+        "stl_tolerance_mm": STL_TOLERANCE_MM, "robots": robots_summary,
+        "parts": [vars(p) for p in records],
+    }
+    mpath = write_json_atomic(out / "manifest.json", manifest)
+    return ExportResult(out, material_name, clearance_mm, records, robots_summary, step_files,
+                        time.perf_counter() - t0, mpath, ppath)
+
+
+def _with_gaps(robot, material_name: str, source: str, gaps: dict[str, float]):
+    from dataclasses import replace
+
+    rp = robot.robot_properties(material_name, source=source)
+    conns = robot.connector_properties(rp.youngs_modulus_pa, gaps)
+    return replace(rp, connectors=tuple(conns))
+
+
+def load_manifest(path: str | os.PathLike) -> dict:
+    """Read a manifest (file or directory holding ``manifest.json``)."""
+    p = Path(path)
+    if p.is_dir():
+        p = p / "manifest.json"
+    data = read_json(p)
+    if not isinstance(data, dict) or data.get("schema_version") != MANIFEST_SCHEMA or "parts" not in data:
+        raise InputError(f"{p} is not a cubot_cad manifest (schema_version {MANIFEST_SCHEMA})")
+    return data

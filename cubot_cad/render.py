@@ -1,0 +1,88 @@
+"""PNG renders of robots and docked pairs (matplotlib, tessellated meshes, mm)."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+PRINTED = (0.86, 0.86, 0.80)
+SECOND = (0.55, 0.70, 0.90)
+
+
+def _tris(shape, tol: float = 0.3):
+    verts, tris = shape.tessellate(tol, 0.5)
+    if not tris:
+        return np.zeros((0, 3, 3))
+    v = np.array([(p.x, p.y, p.z) for p in verts])
+    return v[np.array(tris)]
+
+
+def render_shapes(groups, path: str | os.PathLike, title: str, elev: float = 22, azim: float = -58,
+                  size_in: float = 6.0) -> Path:
+    """``groups``: list of (shapes, rgb). Writes a PNG atomically and returns its path."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    fig = plt.figure(figsize=(size_in, size_in * 0.8), dpi=110)
+    ax = fig.add_subplot(projection="3d")
+    light = np.array([0.4, -0.5, 0.8])
+    light /= np.linalg.norm(light)
+    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
+    for shapes, rgb in groups:
+        for s in shapes:
+            t = _tris(s)
+            if len(t) == 0:
+                continue
+            n = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+            ln = np.linalg.norm(n, axis=1, keepdims=True)
+            n = n / np.where(ln == 0, 1, ln)
+            shade = 0.45 + 0.55 * np.clip(np.abs(n @ light), 0, 1)
+            cols = np.clip(np.outer(shade, rgb), 0, 1)
+            ax.add_collection3d(Poly3DCollection(t, facecolors=cols, edgecolors="none", linewidths=0))
+            lo = np.minimum(lo, t.reshape(-1, 3).min(axis=0))
+            hi = np.maximum(hi, t.reshape(-1, 3).max(axis=0))
+    c, r = (lo + hi) / 2, (hi - lo).max() / 2
+    ax.set_xlim(c[0] - r, c[0] + r)
+    ax.set_ylim(c[1] - r, c[1] + r)
+    ax.set_zlim(c[2] - r, c[2] + r)
+    ax.set_box_aspect((1, 1, 1))
+    ax.view_init(elev=elev, azim=azim)
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.set_zlabel("z (mm)")
+    ax.set_title(title, fontsize=10)
+    fig.tight_layout()
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}.", suffix=".png", dir=p.parent)
+    os.close(fd)
+    try:
+        fig.savefig(tmp)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, p)
+    finally:
+        plt.close(fig)
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return p
+
+
+def render_robot(robot, path) -> Path:
+    comps = []
+    for comp in robot.components():
+        if comp.role in ("wheel", "caster", "motor", "power"):
+            comps.append((comp.solids(), tuple(comp.colour)))
+    mp = robot.mass_properties()
+    title = f"{robot.title}: {mp.printed_mass_kg * 1e3:.0f} g printed, {mp.mass_kg * 1e3:.0f} g total"
+    return render_shapes([(robot.shapes(), PRINTED)] + comps, path, title)
+
+
+def render_pair(pair, path) -> Path:
+    title = f"{pair.name}: gap {pair.gap_mm:.2f} mm, interference {pair.interference_mm3:.3f} mm^3"
+    return render_shapes([(pair.shapes_a, PRINTED), (pair.shapes_b, SECOND)], path, title)
