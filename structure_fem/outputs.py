@@ -65,16 +65,19 @@ def table_csv(rows: list[TableRow]) -> str:
 def thresholds_md(d: Derivation, limits: StructureLimits) -> str:
     th = d.thresholds()
     tt = thesis_limits().thresholds()
-    lines = ["| structure | derived threshold (robot widths) | thesis |", "|---|---|---|"]
+    lines = ["| structure | derived threshold (robot widths) | robots at it | thesis |", "|---|---|---|---|"]
     thesis_of = {"line": tt["line"], "two_line-aligned": tt["two_line"], "two_line-staggered": tt["two_line"]}
     arch_th = [tt["arch"], *tt["arch_levels"]]
-    arch_names = [c.structure.name for c in d.curves if c.structure.kind == "arch"]
+    arch_names = [c.structure.name for c in d.curves
+                  if c.structure.kind == "arch" and c.structure.lines >= 2 * c.structure.layers]
     for i, name in enumerate(arch_names):
         thesis_of[name] = arch_th[i] if i < len(arch_th) else "-"
     for name, t in th["per_structure"].items():
         used = any(s.name == name for s, _, _ in d.levels)
-        lines.append(f"| {name}{'' if used else ' (no band)'} | {t} | {thesis_of.get(name, '-')} |")
-    lines.append(f"| widest void crossed | {limits.max_span_widths} | {thesis_limits().max_span_widths} |")
+        c = d.curve(name)
+        n = c.robots[c.widths.index(t)] if t else "-"
+        lines.append(f"| {name}{'' if used else ' (no band)'} | {t} | {n} | {thesis_of.get(name, '-')} |")
+    lines.append(f"| widest void crossed | {limits.max_span_widths} | - | {thesis_limits().max_span_widths} |")
     return "\n".join(lines)
 
 
@@ -111,6 +114,8 @@ def summary(d: Derivation, limits: StructureLimits, calibration: dict, files: di
     out = {
         "thresholds": {k: th[k] for k in ("line", "two_line", "arch", "arch_levels")},
         "thresholds_per_structure": th["per_structure"],
+        "robots_at_threshold": {c.structure.name: (c.robots[c.widths.index(c.threshold)] if c.threshold else None)
+                                for c in d.curves},
         "thesis_thresholds": {k: v for k, v in thesis_limits().thresholds().items()},
         "max_span_widths": limits.max_span_widths,
         "clearance_mm": limits.clearance_mm,

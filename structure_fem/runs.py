@@ -96,7 +96,7 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     inp, info = make_inputs(opts)
-    d = derive(inp, progress)
+    d = derive(inp, progress, narrow=True)
     limits = limits_from(d)
     rows = table(d, progress)
     if alternative:
@@ -195,7 +195,7 @@ def run_study(out: str | Path, opts: RunOptions = RunOptions(), progress: Progre
 def packaged_limits() -> StructureLimits:
     """The derived limits of the packaged robot properties with default options (the shipped limits.json)."""
     inp, _ = make_inputs(RunOptions())
-    return limits_from(derive(inp))
+    return limits_from(derive(inp, narrow=True))
 
 
 def write_packaged_limits() -> Path:

@@ -90,13 +90,18 @@ class StudyInputs:
         return out
 
 
-def candidate_structures(conn: ConnectorSet) -> list[Structure]:
-    """Line; two lines aligned and (sliding rail) staggered; arches 2L wide x L high, L = 2..4."""
+def candidate_structures(conn: ConnectorSet, narrow: bool = False) -> list[Structure]:
+    """Line; two lines aligned and (sliding rail) staggered; arches 2L wide x L high, L = 2..4
+    (the thesis's cross-section, Fig. 5.3). ``narrow`` adds 2-wide arches of the same heights:
+    in-plane they bend about as much with far fewer robots, but their sideways stability is
+    outside a planar model, so they are reported, never given a band."""
     out = [Structure("line")]
     if conn.side_rail is not None:
         out += [Structure("two_line", 2, 1, "aligned"), Structure("two_line", 2, 1, "staggered")]
         if conn.top_twist is not None:
             out += [Structure("arch", 2 * k, k, "staggered") for k in (2, 3, 4)]
+            if narrow:
+                out += [Structure("arch", 2, k, "staggered") for k in (2, 3, 4)]
     return out
 
 
@@ -166,7 +171,8 @@ class Derivation:
         """Each kind's own widest crossing: ``line``, best ``two_line``, first ``arch``, wider ``arch_levels``."""
         by = {c.structure.name: c.threshold for c in self.curves}
         two = [c.threshold for c in self.curves if c.structure.kind == "two_line"]
-        arches = [c.threshold for c in self.curves if c.structure.kind == "arch"]
+        arches = [c.threshold for c in self.curves
+                  if c.structure.kind == "arch" and c.structure.lines >= 2 * c.structure.layers]
         return {"line": by.get("line", 0), "two_line": max(two, default=0),
                 "arch": arches[0] if arches else 0, "arch_levels": arches[1:],
                 "per_structure": by}
@@ -177,13 +183,13 @@ class Derivation:
 
 
 def derive(inp: StudyInputs, progress: Callable[[Iterable, str, int], Iterable] | None = None,
-           extra: int = 1) -> Derivation:
+           extra: int = 1, narrow: bool = False) -> Derivation:
     """Curves of all candidate structures and the levels that tile 1..max span.
 
     A structure gets a band only if it crosses wider than every cheaper one
     before it (aligned two-line lines add no bending stiffness, so they get
     none when they equal the line)."""
-    structs = candidate_structures(inp.connectors)
+    structs = candidate_structures(inp.connectors, narrow)
     for s in structs:
         s.check_connectors(inp.connectors, inp.robot.name)
     it = structs if progress is None else progress(structs, "fem structures", len(structs))
@@ -191,6 +197,8 @@ def derive(inp: StudyInputs, progress: Callable[[Iterable, str, int], Iterable] 
     levels = []
     covered = 0
     for c in curves:
+        if c.structure.kind == "arch" and c.structure.lines < 2 * c.structure.layers:
+            continue  # narrow arches: reported only
         if c.threshold > covered:
             levels.append((c.structure, covered + 1, c.threshold))
             covered = c.threshold
