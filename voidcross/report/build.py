@@ -170,6 +170,7 @@ def _thesis_tables_section(rs: RunSet) -> Section:
     sec.add(Para("Each cell: ours / thesis, mean seconds. The thesis's values are read from "
                  "`voidcross/report/thesis_data/*.csv` (one file per table, naming it); ours are recomputed "
                  "from the database. Void widths in robot widths (12 cm robots in cases A and B)."))
+    noted = set()
     for t in thesis_tables():
         runs = rs.of(t.preset)
         pts = by_point(runs)
@@ -181,10 +182,11 @@ def _thesis_tables_section(rs: RunSet) -> Section:
                 row.append(f"{_fmt(s['mean']) if s else '–'} / {_fmt(t.values[(n, w)])}")
             rows.append(row)
         sec.add(Table(["void \\ N"] + [str(n) for n in t.robots], rows, f"{t.title} [file {t.path.name}]"))
-        if not runs:
-            sec.add(Note(f"no {t.preset} runs in this database, so only the thesis's column is filled "
+        if not runs and t.preset not in noted:
+            noted.add(t.preset)
+            sec.add(Note(f"no {t.preset} runs in this database, so only the thesis's values are filled "
                          f"(`voidcross sweep --preset {t.preset} --robots {','.join(map(str, t.robots))} "
-                         f"--void-width 1-5 --runs 30 --limits thesis --db ...`)."))
+                         f"--void-width 1-5 --runs 5 --limits thesis --db ...`, 5 runs per cell as in the thesis)."))
     return sec
 
 
