@@ -94,13 +94,13 @@ def bench(robots: int = 10_000, steps: int = 500, scaling: tuple[int, ...] = (1_
         points.append({"robots": n, "steps": k, "seconds_per_step": w / k, "robot_steps_per_s": n * k / w})
     ns = np.log([pt["robots"] for pt in points])
     ts = np.log([pt["seconds_per_step"] for pt in points])
-    slope = float(np.polyfit(ns, ts, 1)[0]) if len(points) >= 2 else float("nan")
+    slope = float(np.polyfit(ns, ts, 1)[0]) if len(points) >= 2 else None
     return {
         "robots": robots, "steps": steps, "cpu_s": round(cpu, 4), "wall_s": round(wall, 4),
         "robot_steps_per_s": round(rate, 1), "robot_steps_per_wall_s": round(robots * steps / wall, 1),
         "realtime_factor_at_dt": round(steps * 0.01 / cpu, 3),
         "load_average_1min": round(_load(), 2),
-        "scaling_exponent": round(slope, 3), "scaling_points": points, "numba": numba_used,
+        "scaling_exponent": round(slope, 3) if slope is not None else None, "scaling_points": points, "numba": numba_used,
         "coverage": 0.05, "state_bytes_100k": state_bytes(100_000),
         "peak_rss_bytes": peak_rss_bytes(),
         "note": "exploration only (random walk, wall and robot avoidance), one process, CPU time; "

@@ -31,7 +31,9 @@ def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> lis
     members = set(st.members) if st is not None else set()
     if st is not None and len(members) != len(st.members):
         out.append(f"t={state.t_s:.2f}s: duplicate structure members {st.members}")
-    over = world.over_void(state.x_cm, state.heading_rad)
+    ex, ey = world.half_extents(state.heading_rad)
+    x, y = state.x_cm, state.y_cm
+    over = (x + ex > world.x0_cm + 1e-9) & (x - ex < world.x1_cm - 1e-9)
     for i in np.flatnonzero(over):
         if int(i) not in members:
             out.append(f"t={state.t_s:.2f}s: robot {int(i)} (mode {Mode(int(state.mode[i])).name}) is over the "
@@ -42,14 +44,12 @@ def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> lis
             out.append(f"t={state.t_s:.2f}s: structure n_p={c.n_p} n_g={c.n_g} n_o={c.n_o} breaks the "
                        f"rule (ratio {p.ground_ratio}, margin {p.ground_margin}, span {p.max_span_widths})")
         ids = np.array(st.members)
-        if not np.array_equal(state.struct_index[ids], np.arange(1, len(ids) + 1)):
+        if (state.struct_index[ids] != np.arange(1, len(ids) + 1)).any():
             out.append(f"t={state.t_s:.2f}s: structure indices {state.struct_index[ids].tolist()} are not 1..n")
         mx, my, _ = S.member_poses(st, p.robot_length_cm)
         if np.abs(state.x_cm[ids] - mx).max() > 1e-6 or np.abs(state.y_cm[ids] - my).max() > 1e-6:
             out.append(f"t={state.t_s:.2f}s: structure members are off the line")
-    lo, hi = world.x_extent(state.x_cm, state.heading_rad)
-    ylo, yhi = world.y_extent(state.y_cm, state.heading_rad)
-    outside = (lo < -1e-6) | (hi > world.w_cm + 1e-6) | (ylo < -1e-6) | (yhi > world.h_cm + 1e-6)
+    outside = (x - ex < -1e-6) | (x + ex > world.w_cm + 1e-6) | (y - ey < -1e-6) | (y + ey > world.h_cm + 1e-6)
     for i in np.flatnonzero(outside):
         out.append(f"t={state.t_s:.2f}s: robot {int(i)} is outside the arena at "
                    f"({state.x_cm[i]:.2f}, {state.y_cm[i]:.2f}) cm")

@@ -8,6 +8,7 @@ processes: a module-level function of plain arguments, returning a record whose
 from __future__ import annotations
 
 import math
+import re
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
@@ -22,6 +23,8 @@ from .params import Params, load_preset, with_limits, with_overrides
 from .state import Phase, SwarmState, new_state
 from .step import step
 from .world import World
+
+_OVER = re.compile(r"robot (\d+) .*over the void")
 
 
 @dataclass
@@ -174,7 +177,7 @@ def times_from_events(events: tuple, t_end: float, phase: int) -> dict:
 def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None = None,
              use_numba: bool | None = None, until: str | None = None) -> tuple[SwarmState, RunResult]:
     """Run to the end (target found, retreat finished, or ``max_time_s``); ``until="seed"``
-    stops as soon as the seed is chosen (for seed statistics, which depend on nothing later)."""
+    stops once the seed is chosen and aligned (seed statistics depend on nothing later)."""
     if until not in (None, "seed"):
         raise InputError(f"until must be None or 'seed', got {until!r}")
     rng = np.random.default_rng(seed)
@@ -187,16 +190,18 @@ def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None
         on_step(state)
     while state.phase not in (Phase.SUCCESS, Phase.RETREATED, Phase.TIMEOUT):
         state = step(state, p, world, rng, use_numba)
-        lost.update(int(i) for i in lost_robots(state, world))
         if check:
             v = violations(state, p, world, p.robots)
             if v:
                 viol.extend(v[:5])
+                lost.update(int(m.group(1)) for m in map(_OVER.search, v) if m)
                 if len(viol) > 50:
                     break
+        else:
+            lost.update(int(i) for i in lost_robots(state, world))
         if on_step is not None:
             on_step(state)
-        if until == "seed" and state.seed_robot >= 0:
+        if until == "seed" and state.seed_position is not None:
             break
     wall = time.perf_counter() - t0
     times = times_from_events(state.events, state.t_s, state.phase)

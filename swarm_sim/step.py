@@ -22,8 +22,22 @@ from .params import Params
 from .state import WALKING_MODES, Mode, Phase, Structure, SwarmState
 from .world import World, wrap
 
+_EXPLORE = int(Mode.EXPLORE)
+_SEED = int(Mode.SEED)
+_RECRUIT = int(Mode.RECRUIT)
+_MEMBER = int(Mode.MEMBER)
+_TARGET = int(Mode.TARGET)
+_RETREAT = int(Mode.RETREAT)
+_STOPPED = int(Mode.STOPPED)
+_P_SEARCH = int(Phase.SEARCH)
+_P_BUILD = int(Phase.BUILD)
+_P_DELIVERED = int(Phase.DELIVERED)
+_P_WANDER = int(Phase.WANDER)
+_P_SUCCESS = int(Phase.SUCCESS)
+_P_RETREATED = int(Phase.RETREATED)
+_P_TIMEOUT = int(Phase.TIMEOUT)
 DISPERSE_S = 2.0  # released robots drive straight away from the structure this long
-ENDED = (Phase.SUCCESS, Phase.RETREATED, Phase.TIMEOUT)
+ENDED = (_P_SUCCESS, _P_RETREATED, _P_TIMEOUT)
 WALKING_LUT = np.zeros(len(Mode), dtype=bool)
 WALKING_LUT[list(WALKING_MODES)] = True
 
@@ -108,18 +122,18 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
     seed_robot, seed_pos = state.seed_robot, state.seed_position
 
     # 1. seed detection
-    if phase == Phase.SEARCH:
-        cand = np.flatnonzero(mode == Mode.EXPLORE)
+    if phase == _P_SEARCH:
+        cand = np.flatnonzero(mode == _EXPLORE)
         if cand.size:
             sees = world.void_ahead(state.x_cm[cand], state.y_cm[cand], state.heading_rad[cand])
             if sees.any():
                 c = cand[sees]
                 seed = int(c[np.argmax(state.x_cm[c])])
-                mode[seed] = Mode.SEED
+                mode[seed] = _SEED
                 sidx[seed] = 1
                 st = Structure(members=(seed,), origin_x_cm=world.x0_cm, origin_y_cm=float(state.y_cm[seed]),
                                dir_x=1.0, dir_y=0.0, front_s_cm=0.0, action="align")
-                phase, phase_since, seed_robot = Phase.BUILD, t, seed
+                phase, phase_since, seed_robot = _P_BUILD, t, seed
                 ev("seed", seed, x_cm=float(state.x_cm[seed]), y_cm=float(state.y_cm[seed]))
 
     # 2. walkers
@@ -130,7 +144,7 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
     disp = np.maximum(disp - p.dt_s, 0.0)
 
     # 3. the structure
-    if st is not None and phase == Phase.BUILD:
+    if st is not None and phase == _P_BUILD:
         L = p.robot_length_cm
         dist = p.speed_cm_s * p.dt_s
         if st.action == "align":
@@ -152,7 +166,7 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
                     x[s0] = hx + dist
                 else:
                     st = replace(st, origin_y_cm=hy, front_s_cm=0.0, action="idle")
-                    mode[s0] = Mode.MEMBER
+                    mode[s0] = _MEMBER
                     seed_pos = (round(world.x0_cm - 0.5 * L, 6), round(hy, 6))
                     ev("aligned", s0, x_cm=seed_pos[0], y_cm=seed_pos[1])
         elif st.action == "wait":
@@ -187,15 +201,15 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
                 if arrived and math.hypot(nx - dxp, ny - dyp) < 1e-9:
                     members = st.members + (r,)
                     st = replace(st, members=members, recruit=-1, action="idle")
-                    mode[r] = Mode.MEMBER
+                    mode[r] = _MEMBER
                     ev("dock", r, index=len(members))
             x[r], y[r], h[r] = nx, ny, nh
             if st.recruit == r and t - st.recruit_since_s > p.recruit_timeout_s:
-                mode[r] = Mode.EXPLORE
+                mode[r] = _EXPLORE
                 st = replace(st, recruit=-1, action="idle")
                 ev("recruit_timeout", r)
         if st.action == "idle":
-            free = np.flatnonzero(mode == Mode.EXPLORE)
+            free = np.flatnonzero(mode == _EXPLORE)
             n = len(st.members)
             rear_s = st.front_s_cm - n * L
             dock_s = rear_s - 0.5 * L
@@ -206,7 +220,7 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
             if action == "release_front":
                 fr = st.members[0]
                 members = st.members[1:]
-                mode[fr] = Mode.TARGET
+                mode[fr] = _TARGET
                 sidx[fr] = 0
                 u = rng.random(2)
                 ang = math.atan2(st.dir_y, st.dir_x) + (1 if u[0] < 0.5 else -1) * (0.35 + 0.7 * u[1])
@@ -219,7 +233,7 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
             elif action == "release_rear":
                 rr = st.members[-1]
                 members = st.members[:-1]
-                mode[rr] = Mode.RETREAT
+                mode[rr] = _RETREAT
                 sidx[rr] = 0
                 u = rng.random(2)
                 ang = math.atan2(-st.dir_y, -st.dir_x) + (1 if u[0] < 0.5 else -1) * (0.35 + 0.7 * u[1])
@@ -236,7 +250,7 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
             elif action == "recruit":
                 d2 = (x[free] - dxp) ** 2 + (y[free] - dyp) ** 2
                 r = int(free[np.argmin(d2)])
-                mode[r] = Mode.RECRUIT
+                mode[r] = _RECRUIT
                 st = replace(st, action="recruit", recruit=r, recruit_since_s=t)
                 ev("recruit", r, n=n)
             elif action == "retreat":
@@ -247,12 +261,12 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
         if st.action in ("wait", "idle") and not st.members:
             # the structure is gone
             if st.retreating:
-                phase, phase_since = Phase.WANDER, t
+                phase, phase_since = _P_WANDER, t
                 ev("dissolved", retreated=True)
-                m = (mode == Mode.EXPLORE) | (mode == Mode.RECRUIT)
-                mode[m] = Mode.RETREAT
+                m = (mode == _EXPLORE) | (mode == _RECRUIT)
+                mode[m] = _RETREAT
             else:
-                phase, phase_since = Phase.DELIVERED, t
+                phase, phase_since = _P_DELIVERED, t
                 ev("dissolved", retreated=False)
             st = None
         if st is not None and st.action != "align":
@@ -262,22 +276,22 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
 
     # 4. target, wander clock, timeout
     target_finder = state.target_finder
-    if phase in (Phase.BUILD, Phase.DELIVERED):
-        tg = np.flatnonzero(mode == Mode.TARGET)
+    if phase in (_P_BUILD, _P_DELIVERED):
+        tg = np.flatnonzero(mode == _TARGET)
         if tg.size:
             d2 = (x[tg] - world.target_x_cm) ** 2 + (y[tg] - world.target_y_cm) ** 2
             hit = d2 <= world.target_found_cm ** 2
             if hit.any():
                 target_finder = int(tg[hit][np.argmin(d2[hit])])
-                phase, phase_since = Phase.SUCCESS, t
+                phase, phase_since = _P_SUCCESS, t
                 ev("target_found", target_finder)
-                mode[WALKING_LUT[mode]] = Mode.STOPPED
-    if phase == Phase.WANDER and t - phase_since >= p.wander_after_retreat_s - 1e-9:
-        phase, phase_since = Phase.RETREATED, t
-        mode[:] = Mode.STOPPED
+                mode[WALKING_LUT[mode]] = _STOPPED
+    if phase == _P_WANDER and t - phase_since >= p.wander_after_retreat_s - 1e-9:
+        phase, phase_since = _P_RETREATED, t
+        mode[:] = _STOPPED
         ev("stopped")
     if phase not in ENDED and t >= p.max_time_s - 1e-9:
-        phase, phase_since = Phase.TIMEOUT, t
+        phase, phase_since = _P_TIMEOUT, t
         ev("timeout")
 
     new = replace(state, x_cm=x, y_cm=y, heading_rad=h, goal_heading_rad=goal, run_left_cm=run_left,
