@@ -150,9 +150,10 @@ def run_bench(args: argparse.Namespace) -> int:
 
     echo = (lambda s: None) if args.json else (lambda s: print(s, file=sys.stderr))
     res = bench(args.preset, args.robots, args.void_width, runs=args.runs, limits=args.limits,
-                run_fn=args.run_fn, max_time_s=args.max_time_s, dask=not args.no_dask, echo=echo)
+                run_fn=args.run_fn, max_time_s=args.max_time_s, dask=not args.no_dask, repeat=args.repeat,
+                echo=echo)
     lines = [f"sweep throughput, {res['preset']}, {res['robots']} robots, {res['void_width']}-wide void, "
-             f"{res['runs']} runs per configuration:"]
+             f"{res['runs']} runs per configuration, best of {res['repeat']} interleaved round(s):"]
     for tag, c in res["configs"].items():
         lines.append(f"  {tag:8s} {c['runs_per_min']:8.1f} runs/min  ({c['wall_s_per_run']:.3f} s/run, "
                      f"executor overhead {c['overhead_ms_per_run']:.2f} ms/run, start-up {c['startup_s']:.1f} s)")
@@ -228,6 +229,8 @@ def register(sub, common) -> None:
     b.add_argument("--limits", dest="limits", default="derived")
     b.add_argument("--max-time-s", dest="max_time_s", type=float, default=None)
     b.add_argument("--run-fn", dest="run_fn", default="swarm_sim.sweeps.sweep:simulate")
+    b.add_argument("--repeat", dest="repeat", type=_positive_int, default=1,
+                   help="interleaved rounds; each configuration reports its best (default 1)")
     b.add_argument("--no-dask", dest="no_dask", action="store_true", help="skip the Dask configuration")
     b.set_defaults(func=run_bench)
 
