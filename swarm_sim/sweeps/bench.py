@@ -30,12 +30,17 @@ def _timed(spec: SweepSpec, executor, run_fn, tmp: Path, tag: str) -> float:
     plan.close()
     plan = prepare_sweep(spec, tmp / f"{tag}.sqlite", run_fn=run_fn)
     t0 = time.perf_counter()
-    n = sum(1 for _ in plan.execute(executor))
+    first_error = None
+    n = 0
+    for row in plan.execute(executor):
+        n += 1
+        if row["status"] == "error" and first_error is None:
+            first_error = (row.get("error") or "").strip().splitlines()[-1:]
     wall = time.perf_counter() - t0
     errors = plan.summary.errors
     plan.close()
     if errors:
-        raise RuntimeError(f"benchmark {tag}: {errors} of {n} runs raised (see the database)")
+        raise RuntimeError(f"benchmark {tag}: {errors} of {n} runs raised, e.g. {first_error}")
     return wall
 
 
