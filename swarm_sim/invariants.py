@@ -39,14 +39,16 @@ def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> lis
             out.append(f"t={state.t_s:.2f}s: robot {int(i)} (mode {Mode(int(state.mode[i])).name}) is over the "
                        f"void at ({state.x_cm[i]:.2f}, {state.y_cm[i]:.2f}) cm outside any structure")
     if st is not None and st.members and st.action != "align":
-        c = S.counts_at(st.front_s_cm, len(st.members), p.robot_length_cm, p.void_width_cm)
+        c = S.counts_at(st.front_s_cm, S.full_rows(st), p.robot_length_cm, p.void_width_cm)
+        if S.all_rows(st) > S.full_rows(st) and S.centres_s(st, p.robot_length_cm)[-1] > 0:
+            out.append(f"t={state.t_s:.2f}s: a partly filled row is off the initial ground")
         if c.n_g and not S.stable(c, p):
             out.append(f"t={state.t_s:.2f}s: structure n_p={c.n_p} n_g={c.n_g} n_o={c.n_o} breaks the "
                        f"rule (ratio {p.ground_ratio}, margin {p.ground_margin}, span {p.max_span_widths})")
         ids = np.array(st.members)
-        if (state.struct_index[ids] != np.arange(1, len(ids) + 1)).any():
+        if (state.struct_index[ids] != np.arange(len(ids)) // S.row_size(st) + 1).any():
             out.append(f"t={state.t_s:.2f}s: structure indices {state.struct_index[ids].tolist()} are not 1..n")
-        mx, my, _ = S.member_poses(st, p.robot_length_cm)
+        mx, my, _ = S.member_poses(st, p.robot_length_cm, p.robot_width_cm)
         if np.abs(state.x_cm[ids] - mx).max() > 1e-6 or np.abs(state.y_cm[ids] - my).max() > 1e-6:
             out.append(f"t={state.t_s:.2f}s: structure members are off the line")
     outside = (x - ex < -1e-6) | (x + ex > world.w_cm + 1e-6) | (y - ey < -1e-6) | (y + ey > world.h_cm + 1e-6)

@@ -21,11 +21,13 @@ CASES = ("A", "B", "C", "D")
 STARTS = ("fixed", "random")
 WALKS = ("levy", "random")
 SHAPES = ("square", "octagon")
+STRUCTURES = ("line", "auto")
 
 #: TOML "section.key" -> flat Params field.
 TOML_KEYS = {
     "scenario.case": "case", "scenario.start": "start", "scenario.robots": "robots",
     "scenario.void_width": "void_width", "scenario.case_margin": "case_margin",
+    "scenario.structure": "structure",
     "arena.width_cm": "arena_w_cm", "arena.height_cm": "arena_h_cm",
     "void.left_x_cm": "void_left_x_cm",
     "robot.length_cm": "robot_length_cm", "robot.width_cm": "robot_width_cm",
@@ -56,6 +58,7 @@ class Params:
     robots: int = 9
     void_width: int = 3
     case_margin: int = 0
+    structure: str = "line"  # line: the small-void single line (Ch. 4); auto: the limits' level for the void
     arena_w_cm: float = 500.0
     arena_h_cm: float = 300.0
     void_left_x_cm: float | None = None  # None: void centred
@@ -93,6 +96,10 @@ class Params:
     ground_margin: int = 0
     max_span_widths: int = 5
     min_robots_rule: int = 0
+    record_min_robots: int = 0
+    level_name: str = "line"
+    lines: int = 1
+    layers: int = 1
     extra: dict = field(default_factory=dict, compare=False)
 
     # ------------------------------------------------------------------ derived geometry
@@ -130,6 +137,7 @@ class Params:
         req(self.start in STARTS, f"start {self.start!r} is not one of {', '.join(STARTS)}")
         req(self.walk in WALKS, f"walk {self.walk!r} is not one of {', '.join(WALKS)}")
         req(self.shape in SHAPES, f"shape {self.shape!r} is not one of {', '.join(SHAPES)}")
+        req(self.structure in STRUCTURES, f"structure {self.structure!r} is not one of {', '.join(STRUCTURES)}")
         req(isinstance(self.robots, int) and not isinstance(self.robots, bool) and self.robots >= 1,
             f"robots must be a positive integer, got {self.robots!r}")
         req(isinstance(self.void_width, int) and not isinstance(self.void_width, bool)
@@ -223,8 +231,9 @@ def load_preset(preset: str) -> Params:
 
 
 def with_overrides(params: Params, overrides: dict, source: str = "override") -> Params:
-    names = {f.name for f in fields(Params)} - {"extra", "limits_source", "ground_ratio",
-                                                "ground_margin", "max_span_widths", "min_robots_rule"}
+    names = {f.name for f in fields(Params)} - {"extra", "limits_source", "ground_ratio", "ground_margin",
+                                                "max_span_widths", "min_robots_rule", "record_min_robots",
+                                                "level_name", "lines", "layers"}
     clean = {}
     for k, v in overrides.items():
         if k not in names:
@@ -241,15 +250,31 @@ def with_overrides(params: Params, overrides: dict, source: str = "override") ->
 
 
 def with_limits(params: Params, limits) -> Params:
-    """Resolve the stability rule from a ``StructureLimits`` record (single-line level)."""
-    line = next((lvl for lvl in limits.levels if lvl.kind == "line"), None)
-    if line is None:
-        raise InputError(f"the {limits.source} limits define no single-line structure")
+    """Resolve the structure and its stability rule from a ``StructureLimits`` record.
+
+    ``structure = "line"``: the single line of the small-void algorithms (a void wider than
+    the line may span ends in a retreat). ``"auto"``: the record's level for the void width
+    (two lines, arches: ``lines`` x ``layers`` robots per row); a void wider than the widest
+    level is rejected before the run.
+    """
     w = params.void_width
-    if w <= line.max_span_widths:
-        rule_min = line.robots_for(w) + params.case_margin
+    if params.structure == "auto":
+        if w > limits.max_span_widths:
+            raise InputError(f"void_width {w} is wider than the widest structure in the {limits.source} "
+                             f"limits ({limits.max_span_widths} robot widths)")
+        level = limits.level_for(w)
     else:
-        rule_min = 0  # the line cannot span it: the swarm must retreat
-    return replace(params, limits_source=limits.source, ground_ratio=float(line.ground_ratio),
-                   ground_margin=int(line.ground_margin) + params.case_margin,
-                   max_span_widths=int(line.max_span_widths), min_robots_rule=int(rule_min))
+        level = next((lvl for lvl in limits.levels if lvl.kind == "line"), None)
+        if level is None:
+            raise InputError(f"the {limits.source} limits define no single-line structure")
+    margin = int(level.ground_margin) + params.case_margin
+    if w <= level.max_span_widths:
+        rows = w + math.ceil(level.ground_ratio * w + margin - 1e-9)
+        rule_min = rows * level.lines * level.layers
+        record_min = level.robots_for(w) + params.case_margin
+    else:
+        rule_min = record_min = 0  # this structure cannot span it: the swarm must retreat
+    return replace(params, limits_source=limits.source, ground_ratio=float(level.ground_ratio),
+                   ground_margin=margin, max_span_widths=int(level.max_span_widths), min_robots_rule=int(rule_min),
+                   record_min_robots=int(record_min), level_name=level.name, lines=int(level.lines),
+                   layers=int(level.layers))

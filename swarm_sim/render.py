@@ -42,6 +42,8 @@ class Frame:
     members: tuple
     front_s_cm: float | None
     seed: int
+    row_size: int = 1
+    lines: int = 1
 
 
 @dataclass
@@ -57,7 +59,7 @@ class Recorder:
             st = s.structure
             self.frames.append(Frame(s.t_s, s.x_cm.copy(), s.y_cm.copy(), s.heading_rad.copy(), s.mode.copy(),
                                      thesis_state(s), st.members if st else (), st.front_s_cm if st else None,
-                                     s.seed_robot))
+                                     s.seed_robot, st.lines * st.layers if st else 1, st.lines if st else 1))
             self._next = s.t_s + self.every_s
 
 
@@ -95,9 +97,11 @@ def draw(f: Frame, p: Params, fig=None):
     if f.members:
         ids = np.array(f.members)
         ax.add_collection(PolyCollection(polys[ids], facecolors="none", edgecolors="gold", linewidths=1.6))
-        if len(ids) <= 40:
-            for k, i in enumerate(ids, 1):
-                ax.text(f.x[i], f.y[i], str(k), ha="center", va="center", fontsize=6, color="w")
+        if len(ids) <= 40 * f.row_size:
+            for m, i in enumerate(ids):
+                if (m % f.row_size) < f.lines:  # label the ground layer with the row number
+                    ax.text(f.x[i], f.y[i], str(m // f.row_size + 1), ha="center", va="center", fontsize=6,
+                            color="w")
     ax.set_xlim(-5, p.arena_w_cm + 5)
     ax.set_ylim(-5, p.arena_h_cm + 5)
     ax.set_aspect("equal")
@@ -118,15 +122,20 @@ def draw(f: Frame, p: Params, fig=None):
     sv.add_patch(Rectangle((0, -3 * L), x0, 3 * L, color="#c8b48a"))
     sv.add_patch(Rectangle((x1, -3 * L), p.arena_w_cm - x1, 3 * L, color="#c8b48a"))
     if f.front_s_cm is not None and f.members:
-        for k, _i in enumerate(f.members):
-            left = x0 + f.front_s_cm - (k + 1) * L
+        for m in range(len(f.members)):
+            row, q = divmod(m, f.row_size)
+            if q % f.lines:
+                continue  # side lines hide behind the core line in the side view
+            layer = q // f.lines
+            left = x0 + f.front_s_cm - (row + 1) * L
             over = not (left + L <= x0 or left >= x1)
-            sv.add_patch(Rectangle((left, 0), L, H, fc="#9467bd" if not over else "#e377c2", ec="k", lw=0.5))
+            sv.add_patch(Rectangle((left, layer * H), L, H, fc="#9467bd" if not over else "#e377c2",
+                                   ec="k", lw=0.5))
     free = [i for i in range(len(f.x)) if i not in set(f.members)]
     if free:
         sv.scatter(f.x[free], np.full(len(free), 0.5 * H), s=4, c=[COLOURS[Mode(int(f.mode[i]))] for i in free])
     sv.set_xlim(-5, p.arena_w_cm + 5)
-    sv.set_ylim(-3 * L, 3 * L)
+    sv.set_ylim(-3 * L, max(3 * L, (f.row_size // max(f.lines, 1) + 1) * H))
     sv.set_aspect("equal")
     sv.set_yticks([])
     sv.set_xlabel("side view along the structure (cm)")

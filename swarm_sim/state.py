@@ -60,8 +60,9 @@ class Structure:
     action: str = "align"          # see structure.ACTIONS
     goal_s_cm: float = 0.0         # front_s target of the current move
     wait_until_s: float = 0.0
-    recruit: int = -1
+    recruits: tuple[int, ...] = ()   # robots called for the rear slots, in slot order
     recruit_since_s: float = 0.0
+    lateral_sign: float = 1.0        # extra lines go to this side of the core line
     landed: bool = False
     retreating: bool = False
 
@@ -74,7 +75,9 @@ class SwarmState:
     goal_heading_rad: np.ndarray
     run_left_cm: np.ndarray      # Levy walk: length left on the current straight run
     mode: np.ndarray             # int8 Mode
-    struct_index: np.ndarray     # int16: 1..n while in the structure, else 0
+    struct_index: np.ndarray     # int16: row 1..n while in the structure (front = 1), else 0
+    struct_line: np.ndarray      # int8: role: 0 core line (coreL), 1 coreR, 2.. side lines; -1 free
+    struct_layer: np.ndarray     # int8: role: 0 ground layer, 1.. stacked layers; -1 free
     disperse_left_s: np.ndarray  # released robots drive straight away for this long
     t_s: float = 0.0
     step: int = 0
@@ -112,4 +115,5 @@ def new_state(x_cm: np.ndarray, y_cm: np.ndarray, heading_rad: np.ndarray) -> Sw
         heading_rad=np.asarray(heading_rad, dtype=np.float64),
         goal_heading_rad=np.asarray(heading_rad, dtype=np.float64).copy(),
         run_left_cm=np.zeros(n), mode=np.zeros(n, dtype=np.int8),
-        struct_index=np.zeros(n, dtype=np.int16), disperse_left_s=np.zeros(n))
+        struct_index=np.zeros(n, dtype=np.int16), struct_line=np.full(n, -1, dtype=np.int8),
+        struct_layer=np.full(n, -1, dtype=np.int8), disperse_left_s=np.zeros(n))

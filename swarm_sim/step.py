@@ -95,12 +95,16 @@ def _slide_off(x, y, h, dist, world: World):
 
 
 def _place_members(arr, st: Structure, p: Params):
-    x, y, h, idx = arr
+    x, y, h, idx, sline, slayer = arr
     if st.members:
-        mx, my, mh = S.member_poses(st, p.robot_length_cm)
+        mx, my, mh = S.member_poses(st, p.robot_length_cm, p.robot_width_cm)
         ids = np.array(st.members)
         x[ids], y[ids], h[ids] = mx, my, mh
-        idx[ids] = np.arange(1, len(ids) + 1)
+        m = np.arange(len(ids))
+        k = S.row_size(st)
+        idx[ids] = m // k + 1
+        sline[ids] = (m % k) % st.lines
+        slayer[ids] = (m % k) // st.lines
 
 
 def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
@@ -110,6 +114,8 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
     t = state.t_s + p.dt_s
     mode = state.mode.copy()
     sidx = state.struct_index.copy()
+    sline = state.struct_line.copy()
+    slayer = state.struct_layer.copy()
     disp = state.disperse_left_s.copy()
     st = state.structure
     new = state
@@ -132,7 +138,9 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
                 mode[seed] = _SEED
                 sidx[seed] = 1
                 st = Structure(members=(seed,), origin_x_cm=world.x0_cm, origin_y_cm=float(state.y_cm[seed]),
-                               dir_x=1.0, dir_y=0.0, front_s_cm=0.0, action="align")
+                               dir_x=1.0, dir_y=0.0, front_s_cm=0.0, action="align", lines=p.lines,
+                               layers=p.layers,
+                               lateral_sign=1.0 if state.y_cm[seed] < 0.5 * world.h_cm else -1.0)
                 phase, phase_since, seed_robot = _P_BUILD, t, seed
                 ev("seed", seed, x_cm=float(state.x_cm[seed]), y_cm=float(state.y_cm[seed]))
 
@@ -184,79 +192,93 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
                 st = replace(st, landed=True)
                 ev("far_ledge", st.members[0], front_s_cm=round(st.front_s_cm, 6))
         elif st.action == "recruit":
-            r = st.recruit
-            rear_s = st.front_s_cm - len(st.members) * L
-            dock_s = rear_s - 0.5 * L
-            dxp, dyp = st.origin_x_cm + dock_s * st.dir_x, st.origin_y_cm + dock_s * st.dir_y
-            stage_back = min(2 * L, max(0.0, dxp - world.body_radius_cm - 0.5))
-            wxp, wyp = dxp - stage_back * st.dir_x, dyp - stage_back * st.dir_y
             dir_h = math.atan2(st.dir_y, st.dir_x)
-            rx, ry, rh = float(x[r]), float(y[r]), float(h[r])
-            on_axis = abs((ry - dyp) * st.dir_x - (rx - dxp) * st.dir_y) < 1e-6 and \
-                (dxp - rx) * st.dir_x + (dyp - ry) * st.dir_y >= -1e-6
-            if not on_axis:
-                nx, ny, nh, _ = _goto(rx, ry, rh, wxp, wyp, p, world, align_h=dir_h)
-            else:
-                nx, ny, nh, arrived = _goto(rx, ry, rh, dxp, dyp, p, world, final_heading=dir_h, align_h=dir_h)
-                if arrived and math.hypot(nx - dxp, ny - dyp) < 1e-9:
-                    members = st.members + (r,)
-                    st = replace(st, members=members, recruit=-1, action="idle")
+            base = len(st.members)
+            arrived_all = True
+            for q, r in enumerate(st.recruits):
+                dxp, dyp, _, _ = S.slot_pose(st, base + q, L, p.robot_width_cm)
+                stage_back = min(2 * L, max(0.0, (dxp - world.body_radius_cm - 0.5) * st.dir_x
+                                            if st.dir_x > 0 else 2 * L))
+                wxp, wyp = dxp - stage_back * st.dir_x, dyp - stage_back * st.dir_y
+                rx, ry, rh = float(x[r]), float(y[r]), float(h[r])
+                if rx == dxp and ry == dyp and rh == dir_h:
+                    continue
+                arrived_all = False
+                on_axis = abs((ry - dyp) * st.dir_x - (rx - dxp) * st.dir_y) < 1e-6 and \
+                    (dxp - rx) * st.dir_x + (dyp - ry) * st.dir_y >= -1e-6
+                if not on_axis:
+                    nx, ny, nh, _ = _goto(rx, ry, rh, wxp, wyp, p, world, align_h=dir_h)
+                else:
+                    nx, ny, nh, arrived = _goto(rx, ry, rh, dxp, dyp, p, world, final_heading=dir_h, align_h=dir_h)
+                    if arrived and math.hypot(nx - dxp, ny - dyp) < 1e-9:
+                        nx, ny, nh = dxp, dyp, dir_h
+                x[r], y[r], h[r] = nx, ny, nh
+            if arrived_all:
+                members = st.members + st.recruits
+                for r in st.recruits:
                     mode[r] = _MEMBER
-                    ev("dock", r, index=len(members))
-            x[r], y[r], h[r] = nx, ny, nh
-            if st.recruit == r and t - st.recruit_since_s > p.recruit_timeout_s:
-                mode[r] = _EXPLORE
-                st = replace(st, recruit=-1, action="idle")
-                ev("recruit_timeout", r)
+                ev("dock", st.recruits[0], index=len(members), robots=list(st.recruits))
+                st = replace(st, members=members, recruits=(), action="idle")
+            elif t - st.recruit_since_s > p.recruit_timeout_s:
+                for r in st.recruits:
+                    mode[r] = _EXPLORE
+                ev("recruit_timeout", st.recruits[0], robots=list(st.recruits))
+                st = replace(st, recruits=(), action="idle")
         if st.action == "idle":
             free = np.flatnonzero(mode == _EXPLORE)
-            n = len(st.members)
-            rear_s = st.front_s_cm - n * L
-            dock_s = rear_s - 0.5 * L
-            dxp = st.origin_x_cm + dock_s * st.dir_x
-            dyp = st.origin_y_cm + dock_s * st.dir_y
-            dock_ok = world.pose_ok1(dxp, dyp, 0.0)
-            action, sit = S.decide(st, p, free.size > 0, dock_ok)
+            k = S.row_size(st)
+            n_slots = k - len(st.members) % k if len(st.members) % k else k
+            slots = [S.slot_pose(st, len(st.members) + q, L, p.robot_width_cm) for q in range(n_slots)]
+            dock_ok = all(world.pose_ok1(sx_, sy_, 0.0) for sx_, sy_, _, _ in slots)
+            # a row is recruited whole (assumption 5 of Ch. 5.4: several robots at once)
+            action, sit = S.decide(st, p, free.size >= n_slots, dock_ok)
             if action == "release_front":
-                fr = st.members[0]
-                members = st.members[1:]
-                mode[fr] = _TARGET
-                sidx[fr] = 0
-                u = rng.random(2)
-                ang = math.atan2(st.dir_y, st.dir_x) + (1 if u[0] < 0.5 else -1) * (0.35 + 0.7 * u[1])
-                goal[fr] = ang  # turns there through the walk (the edge reflex guards the body)
-                run_left[fr] = 0.0
-                disp[fr] = DISPERSE_S
+                row = st.members[:k]
+                members = st.members[k:]
+                for fr in row:
+                    mode[fr] = _TARGET
+                    sidx[fr], sline[fr], slayer[fr] = 0, -1, -1
+                    u = rng.random(2)
+                    ang = math.atan2(st.dir_y, st.dir_x) + (1 if u[0] < 0.5 else -1) * (0.35 + 0.7 * u[1])
+                    goal[fr] = ang  # turns there through the walk (the edge reflex guards the body)
+                    run_left[fr] = 0.0
+                    disp[fr] = DISPERSE_S
                 st = replace(st, members=members, front_s_cm=st.front_s_cm - L, action="wait",
                              wait_until_s=t + p.release_clear_s)
-                ev("release_front", fr, n_left=len(members))
+                ev("release_front", row[0], n_left=len(members), robots=list(row))
             elif action == "release_rear":
-                rr = st.members[-1]
-                members = st.members[:-1]
-                mode[rr] = _RETREAT
-                sidx[rr] = 0
-                u = rng.random(2)
-                ang = math.atan2(-st.dir_y, -st.dir_x) + (1 if u[0] < 0.5 else -1) * (0.35 + 0.7 * u[1])
-                goal[rr] = ang
-                run_left[rr] = 0.0
-                disp[rr] = DISPERSE_S
+                cut = len(st.members) % k or k
+                row = st.members[-cut:]
+                members = st.members[:-cut]
+                for rr in row:
+                    mode[rr] = _RETREAT
+                    sidx[rr], sline[rr], slayer[rr] = 0, -1, -1
+                    u = rng.random(2)
+                    ang = math.atan2(-st.dir_y, -st.dir_x) + (1 if u[0] < 0.5 else -1) * (0.35 + 0.7 * u[1])
+                    goal[rr] = ang
+                    run_left[rr] = 0.0
+                    disp[rr] = DISPERSE_S
                 st = replace(st, members=members, action="wait", wait_until_s=t + p.release_clear_s)
-                ev("release_rear", rr, n_left=len(members))
+                ev("release_rear", row[0], n_left=len(members), robots=list(row))
             elif action == "advance":
                 st = replace(st, action="advance", goal_s_cm=st.front_s_cm + L)
                 ev("advance", st.members[0], n_p=sit.counts.n_p, n_g=sit.counts.n_g, n_o=sit.counts.n_o)
             elif action == "back":
                 st = replace(st, action="back", goal_s_cm=st.front_s_cm - L)
             elif action == "recruit":
-                d2 = (x[free] - dxp) ** 2 + (y[free] - dyp) ** 2
-                r = int(free[np.argmin(d2)])
-                mode[r] = _RECRUIT
-                st = replace(st, action="recruit", recruit=r, recruit_since_s=t)
-                ev("recruit", r, n=n)
+                chosen: list[int] = []
+                pool = list(free)
+                for sx_, sy_, _, _ in slots[:len(pool)]:  # closest free robot to each slot
+                    d2 = (x[pool] - sx_) ** 2 + (y[pool] - sy_) ** 2
+                    chosen.append(int(pool.pop(int(np.argmin(d2)))))
+                for r in chosen:
+                    mode[r] = _RECRUIT
+                st = replace(st, action="recruit", recruits=tuple(chosen), recruit_since_s=t)
+                ev("recruit", chosen[0], n=len(st.members), robots=chosen)
             elif action == "retreat":
                 st = replace(st, retreating=True)
                 ev("retreat", st.members[0] if st.members else -1,
-                   n=n, n_p=sit.counts.n_p, n_g=sit.counts.n_g, free=int(free.size),
+                   n=len(st.members), n_p=sit.counts.n_p, n_g=sit.counts.n_g, free=int(free.size),
                    why="span" if sit.span_blocked else "no_free_robot")
         if st.action in ("wait", "idle") and not st.members:
             # the structure is gone
@@ -270,9 +292,7 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
                 ev("dissolved", retreated=False)
             st = None
         if st is not None and st.action != "align":
-            for i in st.members:
-                sidx[i] = 0
-            _place_members((x, y, h, sidx), st, p)
+            _place_members((x, y, h, sidx, sline, slayer), st, p)
 
     # 4. target, wander clock, timeout
     target_finder = state.target_finder
@@ -295,7 +315,7 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
         ev("timeout")
 
     new = replace(state, x_cm=x, y_cm=y, heading_rad=h, goal_heading_rad=goal, run_left_cm=run_left,
-                  mode=mode, struct_index=sidx, disperse_left_s=disp, t_s=t, step=state.step + 1,
+                  mode=mode, struct_index=sidx, struct_line=sline, struct_layer=slayer, disperse_left_s=disp, t_s=t, step=state.step + 1,
                   phase=int(phase), phase_since_s=phase_since, structure=st, seed_robot=seed_robot,
                   seed_position=seed_pos, target_finder=target_finder,
                   events=state.events + tuple(events) if events else state.events)

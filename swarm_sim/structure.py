@@ -55,18 +55,49 @@ class Counts:
     n_o: int
 
 
+def row_size(st: Structure) -> int:
+    """Robots per row: ``lines`` side by side times ``layers`` stacked (1 for the single line)."""
+    return st.lines * st.layers
+
+
+def full_rows(st: Structure) -> int:
+    return len(st.members) // row_size(st)
+
+
+def all_rows(st: Structure) -> int:
+    k = row_size(st)
+    return (len(st.members) + k - 1) // k
+
+
 def centres_s(st: Structure, L: float) -> np.ndarray:
-    """Distance of each member's centre past the near edge (cm), front first."""
-    k = np.arange(len(st.members))
-    return st.front_s_cm - (k + 0.5) * L
+    """Distance of each member's centre past the near edge (cm), in member order."""
+    m = np.arange(len(st.members))
+    return st.front_s_cm - (m // row_size(st) + 0.5) * L
 
 
-def member_poses(st: Structure, L: float) -> tuple[np.ndarray, np.ndarray, float]:
-    s = centres_s(st, L)
-    return st.origin_x_cm + s * st.dir_x, st.origin_y_cm + s * st.dir_y, float(np.arctan2(st.dir_y, st.dir_x))
+def slot_pose(st: Structure, m: int, L: float, W: float) -> tuple[float, float, int, int]:
+    """Centre (x, y) cm, line and layer of member slot ``m`` (row-major: row, then line, then layer)."""
+    k = row_size(st)
+    row, q = divmod(m, k)
+    line, layer = q % st.lines, q // st.lines
+    s = st.front_s_cm - (row + 0.5) * L
+    lat = line * W * st.lateral_sign
+    return (st.origin_x_cm + s * st.dir_x - lat * st.dir_y, st.origin_y_cm + s * st.dir_y + lat * st.dir_x,
+            line, layer)
+
+
+def member_poses(st: Structure, L: float, W: float | None = None) -> tuple[np.ndarray, np.ndarray, float]:
+    W = L if W is None else W
+    k = row_size(st)
+    m = np.arange(len(st.members))
+    s = st.front_s_cm - (m // k + 0.5) * L
+    lat = ((m % k) % st.lines) * W * st.lateral_sign
+    return (st.origin_x_cm + s * st.dir_x - lat * st.dir_y, st.origin_y_cm + s * st.dir_y + lat * st.dir_x,
+            float(np.arctan2(st.dir_y, st.dir_x)))
 
 
 def counts_at(front_s: float, n: int, L: float, void_cm: float) -> Counts:
+    """Rows (of any size) counted by where their centre of mass is."""
     s = front_s - (np.arange(n) + 0.5) * L
     n_p = int(np.sum(s <= EPS))
     n_o = int(np.sum(s >= void_cm - EPS))
@@ -91,7 +122,7 @@ def stable(c: Counts, p: Params) -> bool:
 def move_stable(front_from: float, front_to: float, n: int, p: Params) -> bool:
     """The rule holds at every configuration the line passes through on a move."""
     L, V = p.robot_length_cm, p.void_width_cm
-    # counts change only where a member centre crosses an edge: check just after each crossing
+    # counts change only where a row centre crosses an edge: check just after each crossing
     lo, hi = min(front_from, front_to), max(front_from, front_to)
     pts = [front_from, front_to]
     for k in range(n):
@@ -104,7 +135,8 @@ def move_stable(front_from: float, front_to: float, n: int, p: Params) -> bool:
 
 @dataclass(frozen=True)
 class Situation:
-    """What the structure knows when idle (all local to the structure or broadcast)."""
+    """What the structure knows when idle (all local to the structure or broadcast).
+    Counts are in rows; a partly filled rear row (being recruited) is not counted."""
 
     counts: Counts
     n: int
@@ -120,18 +152,21 @@ class Situation:
 
 
 def situation(st: Structure, p: Params, free_available: bool, dock_ok: bool) -> Situation:
-    L, V, n = p.robot_length_cm, p.void_width_cm, len(st.members)
+    L, V = p.robot_length_cm, p.void_width_cm
+    n, n_all = full_rows(st), all_rows(st)
     c = counts_at(st.front_s_cm, n, L, V)
-    front_on_target = n > 0 and st.front_s_cm - L >= V - EPS
-    rear_on_initial = n > 0 and st.front_s_cm - (n - 1) * L <= EPS
+    front_on_target = n_all > 0 and st.front_s_cm - L >= V - EPS
+    rear_on_initial = n_all > 0 and st.front_s_cm - (n_all - 1) * L <= EPS
     after = counts_at(st.front_s_cm + L, n, L, V)
     span_blocked = not st.landed and after.n_g > p.max_span_widths
     launch_ok = n >= p.launch_min_robots or st.front_s_cm > EPS
-    can_advance = launch_ok and not span_blocked and move_stable(st.front_s_cm, st.front_s_cm + L, n, p)
+    partial = n_all > n
+    can_advance = (launch_ok and not partial and not span_blocked
+                   and move_stable(st.front_s_cm, st.front_s_cm + L, n, p))
     wo_front = counts_at(st.front_s_cm - L, n - 1, L, V) if n > 1 else Counts(0, 0, 0)
-    wo_rear = counts_at(st.front_s_cm, n - 1, L, V) if n > 1 else Counts(0, 0, 0)
-    return Situation(c, n, st.landed, front_on_target, rear_on_initial, free_available, dock_ok,
-                     can_advance, span_blocked, stable(wo_front, p), stable(wo_rear, p))
+    wo_rear = c if partial else (counts_at(st.front_s_cm, n - 1, L, V) if n > 1 else Counts(0, 0, 0))
+    return Situation(c, n, st.landed, front_on_target and not partial, rear_on_initial, free_available,
+                     dock_ok, can_advance, span_blocked, stable(wo_front, p), stable(wo_rear, p))
 
 
 def _can_recruit(s: Situation) -> bool:
