@@ -34,7 +34,7 @@ def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> lis
     ex, ey = world.half_extents(state.heading_rad)
     x, y = state.x_cm, state.y_cm
     over = (x + ex > world.x0_cm + 1e-9) & (x - ex < world.x1_cm - 1e-9)
-    for i in np.flatnonzero(over):
+    for i in (np.flatnonzero(over) if over.any() else ()):
         if int(i) not in members:
             out.append(f"t={state.t_s:.2f}s: robot {int(i)} (mode {Mode(int(state.mode[i])).name}) is over the "
                        f"void at ({state.x_cm[i]:.2f}, {state.y_cm[i]:.2f}) cm outside any structure")
@@ -52,7 +52,7 @@ def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> lis
         if np.abs(state.x_cm[ids] - mx).max() > 1e-6 or np.abs(state.y_cm[ids] - my).max() > 1e-6:
             out.append(f"t={state.t_s:.2f}s: structure members are off the line")
     outside = (x - ex < -1e-6) | (x + ex > world.w_cm + 1e-6) | (y - ey < -1e-6) | (y + ey > world.h_cm + 1e-6)
-    for i in np.flatnonzero(outside):
+    for i in (np.flatnonzero(outside) if outside.any() else ()):
         out.append(f"t={state.t_s:.2f}s: robot {int(i)} is outside the arena at "
                    f"({state.x_cm[i]:.2f}, {state.y_cm[i]:.2f}) cm")
     return out

@@ -102,9 +102,14 @@ def _place_members(arr, st: Structure, p: Params):
         x[ids], y[ids], h[ids] = mx, my, mh
         m = np.arange(len(ids))
         k = S.row_size(st)
-        idx[ids] = m // k + 1
-        sline[ids] = (m % k) % st.lines
-        slayer[ids] = (m % k) // st.lines
+        if k == 1:
+            idx[ids] = m + 1
+            sline[ids] = 0
+            slayer[ids] = 0
+        else:
+            idx[ids] = m // k + 1
+            sline[ids] = (m % k) % st.lines
+            slayer[ids] = (m % k) // st.lines
 
 
 def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,

@@ -28,6 +28,7 @@ order when the structure is idle; the first row whose guard holds is the action.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -90,6 +91,9 @@ def member_poses(st: Structure, L: float, W: float | None = None) -> tuple[np.nd
     W = L if W is None else W
     k = row_size(st)
     m = np.arange(len(st.members))
+    if k == 1:  # the single line
+        s = st.front_s_cm - (m + 0.5) * L
+        return st.origin_x_cm + s * st.dir_x, st.origin_y_cm + s * st.dir_y, math.atan2(st.dir_y, st.dir_x)
     s = st.front_s_cm - (m // k + 0.5) * L
     lat = ((m % k) % st.lines) * W * st.lateral_sign
     return (st.origin_x_cm + s * st.dir_x - lat * st.dir_y, st.origin_y_cm + s * st.dir_y + lat * st.dir_x,

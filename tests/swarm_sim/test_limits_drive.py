@@ -42,7 +42,7 @@ def test_a_void_wider_than_the_line_may_span_ends_in_a_safe_retreat(tmp_path):
 def test_derived_limits_threshold_is_read_from_the_record():
     rec = load_limits("derived")
     line = next(lvl for lvl in rec.levels if lvl.kind == "line")
-    w = min(2, line.max_span_widths)
+    w = 1
     need = line.robots_for(w)
     ok = run_scenario("case-d", need, w, 1, check_invariants=True)
     assert ok.success and ok.limits_source == "derived" and ok.robots_lost == 0

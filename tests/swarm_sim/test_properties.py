@@ -9,7 +9,7 @@ from swarm_sim.errors import InputError
 from swarm_sim.runner import resolve_params, simulate
 
 
-@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(case=st.sampled_from(["case-a", "case-b", "case-c", "case-d"]),
        robots=st.integers(1, 14), width=st.integers(1, 5),
        arena_w=st.integers(250, 700), arena_h=st.integers(120, 400),
