@@ -102,7 +102,9 @@ if HAVE_NUMBA:
 
     @numba.njit(cache=True, inline="always")
     def _wrap(a):  # pragma: no cover - compiled
-        return (a + math.pi) % (2 * math.pi) - math.pi  # same rounding as world.wrap
+        if -math.pi <= a < math.pi:  # same as world.wrap, bit for bit
+            return a
+        return (a + math.pi) % (2 * math.pi) - math.pi
 
     @numba.njit(cache=True)
     def _walk_kernel(x, y, h, goal, run_left, walkers, straight, u, sq, hl, hw, W, H, x0, x1,
@@ -166,9 +168,14 @@ if HAVE_NUMBA:
                     g = g + (-1.0 if u[3, k] < 0.5 else 1.0) * turn_rad
             d = _wrap(g - wh)
             dh = min(max(d, -turn_max), turn_max)
-            nh = _wrap(wh + dh)
-            cn = math.cos(nh)
-            sn = math.sin(nh)
+            if dh == 0.0:  # no turn this step (the common case): reuse the heading's cos/sin
+                nh = wh
+                cn = c
+                sn = s
+            else:
+                nh = _wrap(wh + dh)
+                cn = math.cos(nh)
+                sn = math.sin(nh)
             st = dist if (abs(d - dh) < 1e-9 and not hz) else 0.0
             nx = wx + st * cn
             ny = wy + st * sn

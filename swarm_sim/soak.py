@@ -47,10 +47,10 @@ def soak(runs: int, seed: int = 0, max_time_s: float = 60.0, limits: str = "thes
         kw = {k: v for k, v in d.items() if k not in ("preset", "robots", "void_width", "seed")}
         try:
             p = resolve_params(d["preset"], d["robots"], d["void_width"], limits, max_time_s, **kw)
+            _, res = simulate(p, d["seed"], check=True)
         except InputError:
             report["skipped_invalid"] += 1  # e.g. the swarm does not fit: rejected before running
             continue
-        _, res = simulate(p, d["seed"], check=True)
         outcome = "success" if res.success else "retreated" if res.retreated else "running_at_cap"
         report["outcomes"][outcome] = report["outcomes"].get(outcome, 0) + 1
         report["robots_lost"] += res.robots_lost

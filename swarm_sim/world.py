@@ -143,4 +143,6 @@ class World:
 
 
 def wrap(a: np.ndarray) -> np.ndarray:
-    return (a + np.pi) % (2 * np.pi) - np.pi
+    """Angle to [-pi, pi); angles already in range are returned unchanged (bit for bit)."""
+    a = np.asarray(a, dtype=np.float64)
+    return np.where((a >= -np.pi) & (a < np.pi), a, (a + np.pi) % (2 * np.pi) - np.pi)

@@ -18,10 +18,10 @@ def test_invariants_hold_on_short_runs(case, robots, width, arena_w, arena_h, se
     try:
         p = resolve_params(case, robots, width, "thesis", 25.0, arena_w_cm=float(arena_w),
                            arena_h_cm=float(arena_h), target_x_cm=arena_w - 20.0, target_y_cm=arena_h / 2)
+        state, res = simulate(p, seed, check=True)
     except InputError as exc:  # a draw that is not a valid scenario must be rejected clearly
         assert str(exc)
         return
-    state, res = simulate(p, seed, check=True)
     assert res.violations == []
     assert res.robots_lost == 0
     assert state.n == robots
