@@ -72,8 +72,15 @@ def _worker_init() -> None:
         pass
 
 
+#: One math-library thread per worker process: N single-run workers on N cores, not N x N
+#: threads fighting for them (Dask's nanny sets the same for its workers).
+SINGLE_THREAD_ENV = {k: "1" for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
+                                      "NUMEXPR_NUM_THREADS", "NUMBA_NUM_THREADS")}
+
+
 class LocalExecutor:
-    """A process pool on this machine (``spawn``: workers import a clean interpreter)."""
+    """A process pool on this machine (``spawn``: workers import a clean interpreter), one
+    math-library thread per worker unless the caller's environment sets otherwise."""
 
     name = "local"
 
@@ -85,6 +92,10 @@ class LocalExecutor:
         self._pool: cf.ProcessPoolExecutor | None = None
 
     def __enter__(self):
+        # workers are spawned lazily and inherit os.environ at spawn time: keep it set while open
+        self._saved_env = {k: os.environ.get(k) for k in SINGLE_THREAD_ENV}
+        for k, v in SINGLE_THREAD_ENV.items():
+            os.environ.setdefault(k, v)
         self._pool = cf.ProcessPoolExecutor(
             max_workers=self.workers, mp_context=multiprocessing.get_context("spawn"),
             initializer=_worker_init)
@@ -97,6 +108,17 @@ class LocalExecutor:
         pool, self._pool = self._pool, None
         if pool is None:
             return
+        try:
+            self._shutdown(pool, cancel)
+        finally:
+            for k, v in getattr(self, "_saved_env", {}).items():
+                if v is None:
+                    os.environ.pop(k, None)
+                else:
+                    os.environ[k] = v
+
+    @staticmethod
+    def _shutdown(pool, cancel: bool) -> None:
         if cancel:
             procs = list((getattr(pool, "_processes", None) or {}).values())
             pool.shutdown(wait=False, cancel_futures=True)
