@@ -172,6 +172,7 @@ def write_video(frames: list, p: Params, path: str | os.PathLike, fps: int = 10,
                 fig.canvas.draw()
                 img = np.asarray(fig.canvas.buffer_rgba())[:, :, :3]
                 w.append_data(img)
+        os.chmod(tmp, 0o644)
         os.replace(tmp, path)
     finally:
         if fig is not None:
@@ -197,6 +198,7 @@ def write_snapshots(frames: list, p: Params, directory: str | os.PathLike, count
         target = d / f"t{f.t_s:09.2f}s.png"
         tmp = _atomic_target(target)
         fig.savefig(tmp, format="png")
+        os.chmod(tmp, 0o644)
         os.replace(tmp, target)
         out.append(target)
     if fig is not None:

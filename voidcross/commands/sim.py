@@ -58,6 +58,7 @@ def _write_json_atomic(path: Path, payload: dict) -> None:
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
     with os.fdopen(fd, "w") as fh:
         json.dump(payload, fh, indent=2, allow_nan=False)
+    os.chmod(tmp, 0o644)
     os.replace(tmp, path)
 
 
