@@ -106,7 +106,7 @@ if HAVE_NUMBA:
             return a
         return (a + math.pi) % (2 * math.pi) - math.pi
 
-    @numba.njit(cache=True)
+    @numba.njit(cache=True, error_model="numpy")
     def _walk_kernel(x, y, h, goal, run_left, walkers, straight, u, sq, hl, hw, W, H, x0, x1,
                      obs, r, detect, avoid, dist, turn_max, levy, mu, lmin, lmax, p_turn,
                      turn_rad):  # pragma: no cover - compiled
@@ -114,14 +114,8 @@ if HAVE_NUMBA:
         q = 0.5 * hw
         a = mu - 1.0
         mid = 0.5 * (x0 + x1)
-        widx = np.full(x.shape[0], -1, np.int64)
-        for k in range(walkers.shape[0]):
-            widx[walkers[k]] = k
-        for kk in range(g_items.shape[0]):  # bucket order: neighbours share cache lines
-            i = g_items[kk]
-            k = widx[i]
-            if k < 0:
-                continue
+        for k in range(walkers.shape[0]):  # index order: the per-robot arrays stream through cache
+            i = walkers[k]
             wx = x[i]
             wy = y[i]
             wh = h[i]

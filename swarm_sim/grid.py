@@ -66,7 +66,7 @@ def blocked_ahead_numpy(x, y, h, query, radius):
 
 if HAVE_NUMBA:
 
-    @numba.njit(cache=True)
+    @numba.njit(cache=True, error_model="numpy")
     def hash_build(x, y, radius):  # pragma: no cover - compiled
         """Robots binned over cells of side ``2 * radius`` folded onto a K x K table
         (K^2 ~ 2N, cell (cx, cy) -> bucket (cx mod K, cy mod K)): (counts, items, sx, sy, K).
