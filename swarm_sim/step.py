@@ -151,6 +151,8 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
 
     # 2. walkers
     walking = WALKING_LUT[mode]
+    if phase != _P_SEARCH and p.case in ("A", "B"):
+        walking &= mode != _EXPLORE  # cases A, B: free robots stop once the void is found (Ch. 4.5)
     walkers = np.flatnonzero(walking)
     x, y, h, goal, run_left = walk(state.x_cm, state.y_cm, state.heading_rad, state.goal_heading_rad,
                                    state.run_left_cm, walkers, disp[walkers] > 0, world, p, rng, use_numba)
