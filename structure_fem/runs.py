@@ -42,6 +42,7 @@ class RunOptions:
     required_tipping: float = 1.0
     flexible: bool = False
     calibration_backlash: float | None = None
+    max_width: int = 30
 
     def __post_init__(self) -> None:
         if self.connectors not in CONNECTOR_SOURCES:
@@ -66,7 +67,8 @@ def make_inputs(opts: RunOptions, props: RobotPropertiesFile | None = None) -> t
         if clearance <= 0:
             raise InputError(f"robot {robot.name!r} has no exposed caster height for --caster")
     inp = StudyInputs.for_robot(robot, clearance, opts.stiffness_scale, opts.backlash_scale, opts.mass_scale,
-                                required_tipping=opts.required_tipping, flexible=opts.flexible)
+                                required_tipping=opts.required_tipping, flexible=opts.flexible,
+                                max_width=opts.max_width)
     cal = calibrate(props, opts.calibration_backlash)
     cal_conn = calibrated_connectors(inp.connectors, cal)
     if opts.connectors == "calibrated":
@@ -101,6 +103,7 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
     rows = table(d, progress)
     if alternative:
         _alt_thresholds(inp, info, opts)
+    info["body_bending"] = body_bending(d)
     md = table_markdown(rows, d, limits, info)
     files = {
         "markdown": str(write_text_atomic(out / "selection_table.md", md)),
@@ -112,6 +115,17 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
     if plots:
         files.update(write_plots(out, d))
     return summary(d, limits, info, files, rows)
+
+
+def body_bending(d: Derivation) -> dict:
+    """How much the robots' own bending (``--flexible``) adds to the line's tip at its threshold."""
+    line = d.curve("line")
+    w = max(line.threshold, 1)
+    cfg = Config(line.structure, line.rows[line.index(w, d.inputs)], w, w)
+    rigid = solve(cfg, d.inputs.robot, d.inputs.connectors).tip_deflection_m
+    flex = solve(cfg, d.inputs.robot, d.inputs.connectors, flexible=True).tip_deflection_m
+    return {"line_width": w, "rigid_tip_mm": round(rigid * 1e3, 4), "flexible_tip_mm": round(flex * 1e3, 4),
+            "increase_percent": round(100 * (flex / rigid - 1), 2)}
 
 
 def write_plots(out: Path, d: Derivation) -> dict[str, str]:
@@ -192,18 +206,21 @@ def run_study(out: str | Path, opts: RunOptions = RunOptions(), progress: Progre
             "calibration": info, "sensitivity": sens, "files": files}
 
 
-def packaged_limits() -> StructureLimits:
-    """The derived limits of the packaged robot properties with default options (the shipped limits.json)."""
-    inp, _ = make_inputs(RunOptions())
+def packaged_limits(properties: str | None = None) -> StructureLimits:
+    """The derived limits of the packaged robot properties (or ``properties``) with default options:
+    what the shipped limits.json must hold."""
+    inp, _ = make_inputs(RunOptions(properties=properties))
     return limits_from(derive(inp, narrow=True))
 
 
-def write_packaged_limits() -> Path:
-    """Regenerate ``structure_fem/data/limits.json`` (``python -m structure_fem.runs``)."""
+def write_packaged_limits(properties: str | None = None) -> Path:
+    """Regenerate ``structure_fem/data/limits.json`` (``python -m structure_fem.runs [properties.json]``)."""
     from .limits import packaged_limits_path
 
-    return packaged_limits().save(packaged_limits_path())
+    return packaged_limits(properties).save(packaged_limits_path())
 
 
 if __name__ == "__main__":  # pragma: no cover
-    print(write_packaged_limits())
+    import sys
+
+    print(write_packaged_limits(sys.argv[1] if len(sys.argv) > 1 else None))

@@ -21,6 +21,7 @@ the far ledge) and the smallest tipping factor too.
 
 from __future__ import annotations
 
+import bisect
 import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, replace
@@ -28,7 +29,7 @@ from dataclasses import dataclass, field, replace
 from cubot_cad.properties import RobotProperties
 
 from .connectors import ConnectorSet
-from .errors import InputError
+from .errors import InputError, SolverFailure
 from .limits import StructureLevel, StructureLimits
 from .model import Config, StaticResult, solve
 from .structures import Structure, layout, tipping_factor
@@ -126,7 +127,8 @@ def min_rows(s: Structure, w: int, inp: StudyInputs) -> tuple[int, StaticResult]
 
 @dataclass
 class Curve:
-    """A structure's tip deflection and tipping factor at its longest cantilever, per void width."""
+    """A structure's tip deflection and tipping factor at its longest cantilever, per void width
+    (only the widths the threshold search or the table needed, sorted)."""
 
     structure: Structure
     widths: list[int] = field(default_factory=list)
@@ -136,25 +138,65 @@ class Curve:
     robots: list[int] = field(default_factory=list)
     threshold: int = 0
 
+    def index(self, w: int, inp: StudyInputs | None = None) -> int:
+        """Index of width ``w``, solving it first (minimal rows, longest cantilever) if missing."""
+        if w in self.widths:
+            return self.widths.index(w)
+        if inp is None:
+            raise KeyError(f"{self.structure.name}: width {w} not solved")
+        rows, res = min_rows(self.structure, w, inp)
+        i = bisect.bisect(self.widths, w)
+        for name, v in (("widths", w), ("tip_mm", res.tip_deflection_mm), ("tipping", res.tipping_factor),
+                        ("rows", rows), ("robots", res.robots)):
+            getattr(self, name).insert(i, v)
+        return i
+
+
+#: Widths solved one by one before the threshold search starts doubling.
+DENSE_WIDTHS = 8
+
 
 def structure_curve(s: Structure, inp: StudyInputs, extra: int = 1, tick: Callable[[], None] | None = None) -> Curve:
-    """Solve w = 1, 2, ... until the tip passes the clearance (plus ``extra`` widths beyond, for plots)."""
+    """The threshold of ``s``: widths 1..8 one by one, then doubling, then bisection.
+
+    The tip deflection at the longest cantilever grows with the void width (more
+    overhang, same couplings), which the search relies on; ``extra`` widths past
+    the first failing one are added for the plots (a solver failure there only
+    ends the curve: those configurations are already out of bounds).
+    """
     c = Curve(s)
-    failed_at = None
-    for w in range(1, inp.max_width + 1):
-        rows, res = min_rows(s, w, inp)
-        c.widths.append(w)
-        c.tip_mm.append(res.tip_deflection_mm)
-        c.tipping.append(res.tipping_factor)
-        c.rows.append(rows)
-        c.robots.append(res.robots)
+    clear = inp.clearance_m * 1e3
+
+    def passes(w: int) -> bool:
+        i = c.index(w, inp)
         if tick:
             tick()
-        if failed_at is None and res.tip_deflection_m > inp.clearance_m:
-            failed_at = w
-        if failed_at is not None and w >= failed_at + extra:
+        return c.tip_mm[i] <= clear
+
+    lo, hi, w = 0, None, 1
+    while w <= inp.max_width:
+        if not passes(w):
+            hi = w
             break
-    c.threshold = (failed_at - 1) if failed_at is not None else c.widths[-1]
+        lo = w
+        if w == inp.max_width:
+            break
+        w = w + 1 if w < DENSE_WIDTHS else min(2 * w, inp.max_width)
+    if hi is not None:
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if passes(mid):
+                lo = mid
+            else:
+                hi = mid
+        for e in range(1, extra + 1):
+            if hi + e > inp.max_width:
+                break
+            try:
+                c.index(hi + e, inp)
+            except SolverFailure:
+                break
+    c.threshold = lo
     return c
 
 
@@ -215,6 +257,8 @@ def limits_from(d: Derivation, source: str = "derived") -> StructureLimits:
     lv = []
     for s, lo, hi in d.levels:
         c = d.curve(s.name)
+        for w in range(lo, hi + 1):
+            c.index(w, inp)
         idx = [c.widths.index(w) for w in range(lo, hi + 1)]
         margins = [c.rows[i] - 2 * c.widths[i] for i in idx]
         lv.append(StructureLevel(
@@ -223,7 +267,13 @@ def limits_from(d: Derivation, source: str = "derived") -> StructureLimits:
             min_robots=tuple(c.robots[i] for i in idx),
             max_deflection_mm=round(c.tip_mm[idx[-1]], 3), min_tipping_factor=round(min(c.tipping[i] for i in idx), 4)))
     th = d.thresholds()
-    skipped = [c.structure.name for c in d.curves if all(c.structure != s for s, _, _ in d.levels)]
+    def narrow(s: Structure) -> bool:
+        return s.kind == "arch" and s.lines < 2 * s.layers
+
+    skipped = [c.structure.name for c in d.curves
+               if not narrow(c.structure) and all(c.structure != s for s, _, _ in d.levels)]
+    narrows = [f"{c.structure.name} to {c.threshold} with {c.robots[c.widths.index(c.threshold)]} robots"
+               for c in d.curves if narrow(c.structure) and c.threshold]
     notes = (f"Derived by structure_fem (exudyn planar multibody, penalty couplings with dead band) for "
              f"{inp.robot.name}: clearance {inp.clearance_m * 1e3:g} mm, tipping factor > {inp.required_tipping:g}. "
              f"Own thresholds per structure: {th['per_structure']}. "
@@ -232,6 +282,8 @@ def limits_from(d: Derivation, source: str = "derived") -> StructureLimits:
              + (" (< 30: no structure up to 8 wide x 4 high keeps the tip within the clearance beyond it)"
                 if d.max_span < MAX_WIDTH else "")
              + (f". No band (adds nothing over a cheaper structure): {', '.join(skipped)}" if skipped else "")
+             + (f". Narrow 2-wide arches (fewer robots in-plane; not banded because their sideways stability "
+                f"is outside a planar model): {'; '.join(narrows)}" if narrows else "")
              + ".")
     return StructureLimits(source=source, robot=inp.robot.name, clearance_mm=round(inp.clearance_m * 1e3, 6),
                            levels=tuple(lv), notes=notes, inputs=inp.provenance())
@@ -273,6 +325,17 @@ def _split(s: Structure, rows_initial: int, rows_over: int, rows_target: int) ->
     return rows_initial * per, rows_over * per, rows_target * per
 
 
+#: Launch sequences up to this width are solved at every step; wider ones at quarter points.
+FULL_STEPPING = 6
+
+
+def launch_steps(w: int) -> list[int]:
+    """Cantilever steps g < w solved besides g = w (where tip and tipping are worst)."""
+    if w <= FULL_STEPPING:
+        return list(range(1, w))
+    return sorted({1, *(math.ceil(w * f) for f in (0.25, 0.5, 0.75))} - {w})
+
+
 def table(d: Derivation, progress: Callable[[Iterable, str, int], Iterable] | None = None,
           step_launch: bool = True) -> list[TableRow]:
     """The selection table for w = 1..max width, stepping through each launch sequence."""
@@ -289,11 +352,11 @@ def table(d: Derivation, progress: Callable[[Iterable, str, int], Iterable] | No
             continue
         s, lo, hi = band
         c = d.curve(s.name)
-        i = c.widths.index(w)
+        i = c.index(w, inp)
         R = c.rows[i]
         tips, tfs = [c.tip_mm[i]], [c.tipping[i]]
         if step_launch:
-            for g in range(1, w):
+            for g in launch_steps(w):
                 res = solve(Config(s, R, g, w), inp.robot, inp.connectors, inp.flexible)
                 tips.append(res.tip_deflection_mm)
                 tfs.append(res.tipping_factor)

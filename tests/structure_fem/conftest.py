@@ -22,7 +22,7 @@ def make_robot(mass=0.3, k=200.0, k_ax=2e5, backlash=0.0, com_x=0.0, name="testb
                            0.015, 0.0033, "ABS", 1040.0, 2.2e9, conns, source="test")
 
 
-@pytest.fixture(name="make_robot")
+@pytest.fixture(name="make_robot", scope="session")
 def make_robot_fixture():
     """The factory :func:`make_robot` (robot records with explicit, test-chosen numbers)."""
     return make_robot

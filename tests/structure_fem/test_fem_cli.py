@@ -9,35 +9,43 @@ import pytest
 
 pytest.importorskip("exudyn")
 
+from dataclasses import replace  # noqa: E402
+
 from cubot_cad.properties import RobotPropertiesFile, default_properties  # noqa: E402
-from structure_fem.limits import StructureLimits, load_limits  # noqa: E402
+from structure_fem.limits import StructureLimits  # noqa: E402
 
 
-@pytest.fixture(scope="module")
-def modified_properties(tmp_path_factory):
-    """The packaged record with a 30 % heavier, 20 % softer-coupled CuBot."""
-    from dataclasses import replace
-
-    props = default_properties()
-    cub = props.get("cubot")
-    conns = tuple(replace(c, rotational_stiffness_nm_per_rad=0.8 * c.rotational_stiffness_nm_per_rad)
-                  for c in cub.connectors)
-    cub2 = replace(cub, mass_kg=cub.mass_kg * 1.3, inertia_kg_m2=tuple(1.3 * i for i in cub.inertia_kg_m2),
-                   connectors=conns)
-    robots = tuple(cub2 if r.name == "cubot" else r for r in props.robots)
-    path = tmp_path_factory.mktemp("props") / "robot_properties.json"
-    RobotPropertiesFile(robots).save(path)
+def _props_file(path, robot):
+    others = tuple(r for r in default_properties().robots if r.name != "cubot")
+    RobotPropertiesFile((replace(robot, name="cubot"),) + others).save(path)
     return path
 
 
-def test_table_json_outputs_and_properties_change_the_table(cli, tmp_path, modified_properties):
+@pytest.fixture(scope="module")
+def test_properties(tmp_path_factory, make_robot):
+    """A properties file whose CuBot has test-chosen, soft couplings (fast, small thresholds)."""
+    return _props_file(tmp_path_factory.mktemp("props") / "robot_properties.json",
+                       make_robot(k=200.0, backlash=0.002))
+
+
+@pytest.fixture(scope="module")
+def modified_properties(tmp_path_factory, make_robot):
+    """The same CuBot 30 % heavier with 20 % softer couplings."""
+    return _props_file(tmp_path_factory.mktemp("props2") / "robot_properties.json",
+                       make_robot(mass=0.39, k=160.0, backlash=0.002))
+
+
+def test_table_json_outputs_and_properties_change_the_table(cli, tmp_path, test_properties, modified_properties):
+    base = cli("fem", "table", "--out", str(tmp_path / "base"), "--properties", str(test_properties), "--json",
+               "--max-width", "8")
+    assert base.code == 0, base.err
     res = cli("fem", "table", "--out", str(tmp_path), "--properties", str(modified_properties), "--json",
-              "--docs", str(tmp_path / "docs"))
+              "--docs", str(tmp_path / "docs"), "--max-width", "8")
     assert res.code == 0, res.err
     out = res.json()
     assert set(out["thresholds"]) >= {"line", "two_line", "arch", "arch_levels"}
     assert out["thesis_thresholds"] == {"line": 5, "two_line": 10, "arch": 15, "arch_levels": [20, 25, 30]}
-    assert out["clearance_mm"] == pytest.approx(default_properties().get("cubot").wheel_exposed_height_m * 1e3)
+    assert out["clearance_mm"] == pytest.approx(15.0)  # the test robot's exposed wheel height
     assert out["calibration"]["bolt_stiffness_nm_per_rad"] > 0
     assert "thresholds_with_calibrated_connectors" in out["calibration"]["calibrated_alternative"]
     for name in ("selection_table.md", "selection_table.csv", "limits.json", "deflection_vs_width.png",
@@ -46,15 +54,18 @@ def test_table_json_outputs_and_properties_change_the_table(cli, tmp_path, modif
     assert (tmp_path / "docs" / "structure_fem_table.md").exists()
     lim = StructureLimits.load(tmp_path / "limits.json")
     assert lim.source == "derived" and lim.max_span_widths == out["max_span_widths"]
-    assert lim != load_limits("derived")  # different robot record -> different table
+    base_lim = StructureLimits.load(tmp_path / "base" / "limits.json")
+    assert lim != base_lim  # different robot record -> different table
+    assert (tmp_path / "selection_table.md").read_text() != (tmp_path / "base" / "selection_table.md").read_text()
     rows = list(csv.DictReader((tmp_path / "selection_table.csv").open()))
-    assert [int(r["width"]) for r in rows] == list(range(1, 31))
+    assert [int(r["width"]) for r in rows] == list(range(1, 9))
     assert all("nan" not in json.dumps(r).lower() for r in rows)
     md = (tmp_path / "selection_table.md").read_text()
     assert "| line |" in md and "thesis" in md
     # Heavier, softer robots never cross wider.
-    packaged = load_limits("derived").thresholds()
-    assert out["thresholds"]["line"] <= packaged["line"]
+    for kind in ("line", "two_line", "arch"):
+        assert out["thresholds"][kind] <= base.json()["thresholds"][kind]
+    assert out["body_bending"] if "body_bending" in out else out["calibration"]["body_bending"]
 
 
 def test_caster_clearance_is_the_strict_alternative(cli, tmp_path):
@@ -101,10 +112,10 @@ def test_non_positive_stiffness_in_properties_is_exit_2(cli, tmp_path):
     assert res.code == 2 and "rotational_stiffness_nm_per_rad" in res.error_lines[0]
 
 
-def test_pipeline_stage_sets_limits_and_fem_dir(tmp_path):
+def test_pipeline_stage_sets_limits_and_fem_dir(tmp_path, test_properties):
     from voidcross.commands.fem import pipeline_stage
 
-    ctx: dict = {}
+    ctx: dict = {"robot_properties": str(test_properties)}
     line = pipeline_stage(tmp_path / "fem", ctx)
     assert "derived thresholds" in line
     assert StructureLimits.load(ctx["limits"]).source == "derived"

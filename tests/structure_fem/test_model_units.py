@@ -90,7 +90,8 @@ def test_backlash_adds_a_rigid_droop(make_robot, k):
     w, b = 3, 0.002
     d0 = solve(Config(Structure("line"), 7, w, w), make_robot(k=k)).tip_deflection_m
     d1 = solve(Config(Structure("line"), 7, w, w), make_robot(k=k, backlash=b)).tip_deflection_m
-    assert d1 - d0 == pytest.approx(b * 0.1 * w * (w + 3) / 2, rel=0.01)
+    # 2 %: the weak spring that fixes unloaded joints inside their play takes <= 1 % of m g L.
+    assert d1 - d0 == pytest.approx(b * 0.1 * w * (w + 3) / 2, rel=0.02)
 
 
 def test_solver_failure_names_the_configuration(robot):
@@ -98,9 +99,14 @@ def test_solver_failure_names_the_configuration(robot):
         solve(Config(Structure("line"), 9, 4, 4), robot, options=SolverOptions(max_iterations=1, load_steps=1))
 
 
-def test_flexible_bodies_add_little_to_joint_compliance(cubot):
-    rigid = solve(Config(Structure("line"), 9, 4, 4), cubot)
-    flex = solve(Config(Structure("line"), 9, 4, 4), cubot, flexible=True)
-    assert flex.tip_deflection_m >= rigid.tip_deflection_m
-    assert flex.tip_deflection_m < 1.05 * rigid.tip_deflection_m  # Eq. 7.1's point: bodies barely bend
+def test_flexible_bodies_matter_only_when_joints_are_stiff(make_robot):
+    """Body compliance L/(E I) in series with the joint: negligible next to a 200 N m/rad coupling
+    (Eq. 7.1's point), tens of percent next to a 10000 N m/rad one."""
+    cfg = Config(Structure("line"), 9, 4, 4)
+    for k, lo, hi in ((200.0, 1.0, 1.05), (1e4, 1.1, 2.0)):
+        robot = make_robot(k=k)
+        rigid = solve(cfg, robot)
+        flex = solve(cfg, robot, flexible=True)
+        assert lo * rigid.tip_deflection_m <= flex.tip_deflection_m < hi * rigid.tip_deflection_m
+        assert math.isfinite(flex.tipping_factor)
     assert math.isfinite(flex.tipping_factor)

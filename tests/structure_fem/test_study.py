@@ -20,16 +20,19 @@ def _th(d) -> dict:
     return d.thresholds()["per_structure"]
 
 
-@pytest.fixture(scope="session")
-def base(cubot_session):
-    return derive(StudyInputs.for_robot(cubot_session), extra=0)
+#: A test robot with the old hand-estimate couplings (soft, so thresholds are small and fast to find).
+BASE = dict(mass=0.3, k=200.0, k_ax=2e5, backlash=0.002)
+MAXW = 12
 
 
-@pytest.fixture(scope="session")
-def cubot_session():
-    from cubot_cad.properties import default_properties
+@pytest.fixture(scope="module")
+def base_robot(make_robot):
+    return make_robot(**BASE)
 
-    return default_properties().get("cubot")
+
+@pytest.fixture(scope="module")
+def base(base_robot):
+    return derive(StudyInputs.for_robot(base_robot, max_width=MAXW), extra=0)
 
 
 def _never_below(a: dict, b: dict) -> None:
@@ -37,31 +40,40 @@ def _never_below(a: dict, b: dict) -> None:
         assert b[name] >= t, f"{name}: {t} -> {b[name]}"
 
 
-def test_stiffer_connectors_never_shrink_a_threshold(base, cubot_session):
-    stiff = derive(StudyInputs.for_robot(cubot_session, stiffness_scale=2.0), extra=0)
+def test_stiffer_connectors_never_shrink_a_threshold(base, base_robot):
+    stiff = derive(StudyInputs.for_robot(base_robot, stiffness_scale=2.0, max_width=MAXW), extra=0)
     _never_below(_th(base), _th(stiff))
-    assert stiff.max_span > base.max_span or stiff.curve("line").tip_mm[0] < base.curve("line").tip_mm[0]
+    assert stiff.curve("line").tip_mm[0] < base.curve("line").tip_mm[0]
 
 
-def test_larger_clearance_never_shrinks_a_threshold(base, cubot_session):
-    wide = derive(StudyInputs.for_robot(cubot_session, clearance_mm=base.inputs.clearance_m * 1e3 * 2), extra=0)
+def test_larger_clearance_never_shrinks_a_threshold(base, base_robot):
+    wide = derive(StudyInputs.for_robot(base_robot, clearance_mm=base.inputs.clearance_m * 1e3 * 2,
+                                        max_width=MAXW), extra=0)
     _never_below(_th(base), _th(wide))
     assert sum(_th(wide).values()) > sum(_th(base).values())
 
 
-def test_heavier_robots_never_grow_a_threshold(base, cubot_session):
-    heavy = derive(StudyInputs.for_robot(cubot_session, mass_scale=2.0), extra=0)
+def test_heavier_robots_never_grow_a_threshold(base, base_robot):
+    heavy = derive(StudyInputs.for_robot(base_robot, mass_scale=2.0, max_width=MAXW), extra=0)
     _never_below(_th(heavy), _th(base))
     assert heavy.curve("line").tip_mm[0] > base.curve("line").tip_mm[0]
 
 
 def test_threshold_is_the_widest_void_within_clearance(base):
+    """Checked densely: every width up to the threshold passes, the next one fails."""
+    from structure_fem.study import structure_curve
+
     clear = base.inputs.clearance_m * 1e3
     for c in base.curves:
         t = c.threshold
-        assert all(x <= clear for x in c.tip_mm[:t])
-        if t < len(c.tip_mm):
-            assert c.tip_mm[t] > clear
+        for w in range(1, t + 2):
+            c.index(w, base.inputs)
+        assert all(c.tip_mm[c.index(w)] <= clear for w in range(1, t + 1))
+        assert c.tip_mm[c.index(t + 1)] > clear
+    # The doubling/bisection search agrees with a width-by-width scan (monotone tip vs width).
+    tall = structure_curve(base.curves[-1].structure, replace(base.inputs, clearance_m=0.03), extra=0)
+    scan = [tall.index(w, base.inputs) for w in range(1, tall.threshold + 2)]
+    assert all(tall.tip_mm[i] <= 30 for i in scan[:-1]) and tall.tip_mm[scan[-1]] > 30
 
 
 def test_limits_tile_widths_and_counts_stand(base):
@@ -72,8 +84,8 @@ def test_limits_tile_widths_and_counts_stand(base):
     for lvl in lim.levels:
         c = base.curve(lvl.name)
         for w in range(lvl.min_span_widths, lvl.max_span_widths + 1):
-            assert lvl.robots_for(w) == c.robots[c.widths.index(w)]
-            assert c.tipping[c.widths.index(w)] > 1.0
+            assert lvl.robots_for(w) == c.robots[c.index(w)]
+            assert c.tipping[c.index(w)] > 1.0
 
 
 def test_minimal_line_count_beats_the_thesis_rule_and_one_less_would_tip(base):
@@ -97,8 +109,10 @@ def test_minimal_line_count_beats_the_thesis_rule_and_one_less_would_tip(base):
 
 
 def test_aligned_two_lines_add_nothing_over_one_line(base):
-    assert base.curve("two_line-aligned").threshold == base.curve("line").threshold
-    assert base.curve("two_line-aligned").tip_mm == pytest.approx(base.curve("line").tip_mm, rel=1e-6)
+    one, two = base.curve("line"), base.curve("two_line-aligned")
+    assert two.threshold == one.threshold
+    assert [two.tip_mm[two.index(w, base.inputs)] for w in (1, 2, 3)] == pytest.approx(
+        [one.tip_mm[one.index(w, base.inputs)] for w in (1, 2, 3)], rel=1e-6)
 
 
 def test_packaged_limits_json_is_regenerated_from_the_packaged_properties():

@@ -43,6 +43,8 @@ def _add_inputs(p: argparse.ArgumentParser) -> None:
     g.add_argument("--tipping", type=float, default=1.0, metavar="F",
                    help="required tipping safety factor (> F at the longest cantilever; default 1)")
     g.add_argument("--flexible", action="store_true", help="add the robots' own bending compliance (E of the material)")
+    g.add_argument("--max-width", type=int, default=30, metavar="W",
+                   help="widest void studied, robot widths (default 30)")
     g.add_argument("--calibration-backlash", type=float, default=None, metavar="RAD",
                    help="backlash of the platform bolt for the calibration fit (default 0: stiffness only)")
 
@@ -53,7 +55,8 @@ def _opts(args):
     return RunOptions(properties=args.properties, robot=args.robot, clearance_mm=args.clearance_mm,
                       caster=args.caster, connectors=args.connectors, stiffness_scale=args.stiffness_scale,
                       backlash_scale=args.backlash_scale, mass_scale=args.mass_scale, required_tipping=args.tipping,
-                      flexible=args.flexible, calibration_backlash=args.calibration_backlash)
+                      flexible=args.flexible, calibration_backlash=args.calibration_backlash,
+                      max_width=args.max_width)
 
 
 def _bar(iterable, desc, total):
