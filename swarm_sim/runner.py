@@ -11,7 +11,7 @@ import math
 import re
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -239,4 +239,4 @@ def run_scenario(preset: str, robots: int, void_width: int, seed: int, limits: s
     return res
 
 
-__all__ = ["RunResult", "run_scenario", "resolve_params", "simulate", "init_state", "replace"]
+__all__ = ["RunResult", "run_scenario", "resolve_params", "simulate", "init_state"]

@@ -160,6 +160,21 @@ def bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def pipeline_stage(out: Path, ctx: dict) -> str:
+    """One thesis crossing (case D, 9 robots, 3-wide void) with the pipeline's limits;
+    writes ``run.json`` under ``out`` and sets ``ctx["sim_run"]``."""
+    from swarm_sim.runner import run_scenario
+
+    limits = str(ctx.get("limits") or "derived")
+    res = run_scenario("case-d", 9, 3, 1, limits=limits)
+    target = Path(out) / "run.json"
+    _write_json_atomic(target, res.to_dict(events=True))
+    ctx["sim_run"] = target
+    outcome = "crossed" if res.success else "retreated" if res.retreated else "timed out"
+    return (f"case-d N=9 void=3 ({res.limits_source} limits): {outcome}, robots lost {res.robots_lost}, "
+            f"Tt {res.times['Tt']} s -> {target}")
+
+
 def register(sub, common) -> None:
     p = sub.add_parser("sim", parents=[common], help="swarm_sim: run, soak and benchmark the swarm simulator",
                        formatter_class=argparse.RawDescriptionHelpFormatter, epilog=RUN_EPILOG)
