@@ -28,6 +28,11 @@ def test_sim_then_report_stage_set_ctx_and_resume(tmp_path, monkeypatch):
     con.close()
     # a second pipeline run resumes instead of refusing or duplicating
     assert f"{planned}/{planned}" in sweep.pipeline_stage(tmp_path / "sim", ctx)
+    first_db = ctx["db"]
+    # other limits (e.g. structure_fem re-derived them): a new database, not a refusal
+    ctx2 = {"limits": "derived"}
+    sweep.pipeline_stage(tmp_path / "sim", ctx2)
+    assert ctx2["db"] != first_db
     line = report.pipeline_stage(tmp_path / "report", ctx)
     assert line == f"report at {ctx['report']}" and ctx["report"].endswith("index.html")
 

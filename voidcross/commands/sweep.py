@@ -263,8 +263,13 @@ def pipeline_stage(out: Path, ctx: dict) -> str:
     points = pipeline_points(limits)
     spec = SweepSpec("case-d", points=points, runs=PIPELINE_RUNS, limits=limits,
                      max_time_s=PIPELINE_MAX_TIME_S)
-    db = out / "case-d.sqlite"
-    plan = prepare_sweep(spec, db, resume=True, run_fn=PIPELINE_RUN_FN)
+    from swarm_sim.sweeps.sweep import limits_digest
+
+    # one database per limits content: a re-run resumes, changed limits start a new file
+    # instead of being refused (results under two different limits never mix)
+    digest = limits_digest(limits)
+    db = out / f"case-d-{digest[:8]}.sqlite"
+    plan = prepare_sweep(spec, db, resume=True, run_fn=PIPELINE_RUN_FN, digest=digest)
     s = execute_plan(plan, "local", None, None, desc="pipeline sweep")
     if s.interrupted:
         raise KeyboardInterrupt
