@@ -72,75 +72,111 @@ def _robot_polys(f: Frame, p: Params) -> np.ndarray:
     return np.stack([px, py], axis=2)
 
 
-def draw(f: Frame, p: Params, fig=None):
-    """One frame as a matplotlib Figure (top view + side-view strip)."""
-    import matplotlib
+class Renderer:
+    """A figure whose static parts (arena, void, target, obstacles, ground) are drawn once;
+    :meth:`update` moves the robots, the structure, the labels and the clock."""
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.collections import PolyCollection
-    from matplotlib.patches import Circle, Rectangle
+    def __init__(self, p: Params):
+        import matplotlib
 
-    if fig is None:
-        fig = plt.figure(figsize=(10, 7.2), dpi=80)
-    fig.clf()
-    gs = fig.add_gridspec(2, 1, height_ratios=[4, 1])
-    ax = fig.add_subplot(gs[0])
-    ax.add_patch(Rectangle((0, 0), p.arena_w_cm, p.arena_h_cm, fill=False, lw=1.5, ec="k"))
-    ax.add_patch(Rectangle((p.void_x0_cm, 0), p.void_width_cm, p.arena_h_cm, color="k"))
-    ax.add_patch(Circle((p.target_x_cm, p.target_y_cm), p.target_radius_cm, color="b"))
-    for ox, oy, r in p.obstacles:
-        ax.add_patch(Circle((ox, oy), r, color="r"))
-    polys = _robot_polys(f, p)
-    cols = [COLOURS[Mode(int(m))] for m in f.mode]
-    ax.add_collection(PolyCollection(polys, facecolors=cols, edgecolors="k", linewidths=0.4))
-    if f.members:
-        ids = np.array(f.members)
-        ax.add_collection(PolyCollection(polys[ids], facecolors="none", edgecolors="gold", linewidths=1.6))
-        if len(ids) <= 40 * f.row_size:
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        from matplotlib.collections import PolyCollection
+        from matplotlib.patches import Circle, Rectangle
+
+        self.p = p
+        self.Rectangle = Rectangle
+        self.fig = fig = plt.figure(figsize=(10, 7.2), dpi=80)
+        gs = fig.add_gridspec(2, 1, height_ratios=[4, 1])
+        self.ax = ax = fig.add_subplot(gs[0])
+        ax.add_patch(Rectangle((0, 0), p.arena_w_cm, p.arena_h_cm, fill=False, lw=1.5, ec="k"))
+        ax.add_patch(Rectangle((p.void_x0_cm, 0), p.void_width_cm, p.arena_h_cm, color="k"))
+        ax.add_patch(Circle((p.target_x_cm, p.target_y_cm), p.target_radius_cm, color="b"))
+        for ox, oy, r in p.obstacles:
+            ax.add_patch(Circle((ox, oy), r, color="r"))
+        self.robots = PolyCollection([], edgecolors="k", linewidths=0.4)
+        self.outline = PolyCollection([], facecolors="none", edgecolors="gold", linewidths=1.6)
+        ax.add_collection(self.robots)
+        ax.add_collection(self.outline)
+        ax.set_xlim(-5, p.arena_w_cm + 5)
+        ax.set_ylim(-5, p.arena_h_cm + 5)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x (cm)")
+        ax.set_ylabel("y (cm)")
+        self.title = ax.set_title("t = 0000.00 s structure 000 states -1:000 -2:000 -3:000", fontsize=9)
+        handles = [Rectangle((0, 0), 1, 1, color=c) for c in COLOURS.values()]
+        ax.legend(handles, ["explore -1", "seed", "recruit", "structure 1..n", "target -2", "retreat -3",
+                            "stopped"], fontsize=6, loc="upper left", ncol=7, frameon=False,
+                  bbox_to_anchor=(0, -0.08))
+        self.sv = sv = fig.add_subplot(gs[1])
+        L = p.robot_length_cm
+        self.H = 0.85 * L
+        x0, x1 = p.void_x0_cm, p.void_x1_cm
+        sv.add_patch(Rectangle((0, -3 * L), x0, 3 * L, color="#c8b48a"))
+        sv.add_patch(Rectangle((x1, -3 * L), p.arena_w_cm - x1, 3 * L, color="#c8b48a"))
+        self.side = PolyCollection([], edgecolors="k", linewidths=0.5)
+        sv.add_collection(self.side)
+        self.free_dots = sv.scatter([], [], s=4)
+        sv.set_xlim(-5, p.arena_w_cm + 5)
+        sv.set_ylim(-3 * L, 3 * L)
+        sv.set_aspect("equal")
+        sv.set_yticks([])
+        sv.set_xlabel("side view along the structure (cm)")
+        self.texts: list = []
+        fig.tight_layout()
+
+    def update(self, f: Frame):
+        p, L, H = self.p, self.p.robot_length_cm, self.H
+        polys = _robot_polys(f, p)
+        self.robots.set_verts(polys)
+        self.robots.set_facecolors([COLOURS[Mode(int(m))] for m in f.mode])
+        for t in self.texts:
+            t.remove()
+        self.texts = []
+        ids = np.array(f.members, dtype=int)
+        self.outline.set_verts(polys[ids] if len(ids) else [])
+        if 0 < len(ids) <= 40 * f.row_size:
             for m, i in enumerate(ids):
                 if (m % f.row_size) < f.lines:  # label the ground layer with the row number
-                    ax.text(f.x[i], f.y[i], str(m // f.row_size + 1), ha="center", va="center", fontsize=6,
-                            color="w")
-    ax.set_xlim(-5, p.arena_w_cm + 5)
-    ax.set_ylim(-5, p.arena_h_cm + 5)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x (cm)")
-    ax.set_ylabel("y (cm)")
-    counts = {k: int((f.state == v).sum()) for k, v in (("-1", -1), ("-2", -2), ("-3", -3))}
-    ax.set_title(f"{p.preset}  N={p.robots}  void={p.void_width} widths  t = {f.t_s:7.2f} s   "
-                 f"structure {len(f.members)}  states -1:{counts['-1']} -2:{counts['-2']} -3:{counts['-3']}",
-                 fontsize=9)
-    handles = [Rectangle((0, 0), 1, 1, color=c) for c in COLOURS.values()]
-    ax.legend(handles, ["explore -1", "seed", "recruit", "structure 1..n", "target -2", "retreat -3", "stopped"],
-              fontsize=6, loc="upper left", ncol=7, frameon=False, bbox_to_anchor=(0, -0.08))
-    # side view: ground, void and the structure's line at the ledge height
-    sv = fig.add_subplot(gs[1])
-    L = p.robot_length_cm
-    H = 0.85 * L
-    x0, x1 = p.void_x0_cm, p.void_x1_cm
-    sv.add_patch(Rectangle((0, -3 * L), x0, 3 * L, color="#c8b48a"))
-    sv.add_patch(Rectangle((x1, -3 * L), p.arena_w_cm - x1, 3 * L, color="#c8b48a"))
-    if f.front_s_cm is not None and f.members:
-        for m in range(len(f.members)):
-            row, q = divmod(m, f.row_size)
-            if q % f.lines:
-                continue  # side lines hide behind the core line in the side view
-            layer = q // f.lines
-            left = x0 + f.front_s_cm - (row + 1) * L
-            over = not (left + L <= x0 or left >= x1)
-            sv.add_patch(Rectangle((left, layer * H), L, H, fc="#9467bd" if not over else "#e377c2",
-                                   ec="k", lw=0.5))
-    free = [i for i in range(len(f.x)) if i not in set(f.members)]
-    if free:
-        sv.scatter(f.x[free], np.full(len(free), 0.5 * H), s=4, c=[COLOURS[Mode(int(f.mode[i]))] for i in free])
-    sv.set_xlim(-5, p.arena_w_cm + 5)
-    sv.set_ylim(-3 * L, max(3 * L, (f.row_size // max(f.lines, 1) + 1) * H))
-    sv.set_aspect("equal")
-    sv.set_yticks([])
-    sv.set_xlabel("side view along the structure (cm)")
-    fig.tight_layout()
-    return fig
+                    self.texts.append(self.ax.text(f.x[i], f.y[i], str(m // f.row_size + 1), ha="center",
+                                                   va="center", fontsize=6, color="w"))
+        counts = {k: int((f.state == k).sum()) for k in (-1, -2, -3)}
+        self.title.set_text(f"{p.preset}  N={p.robots}  void={p.void_width} widths  t = {f.t_s:7.2f} s   "
+                            f"structure {len(f.members)}  states -1:{counts[-1]} -2:{counts[-2]} -3:{counts[-3]}")
+        side, cols, top = [], [], 0
+        x0, x1 = p.void_x0_cm, p.void_x1_cm
+        if f.front_s_cm is not None:
+            for m in range(len(f.members)):
+                row, q = divmod(m, f.row_size)
+                if q % f.lines:
+                    continue  # side lines hide behind the core line in the side view
+                layer = q // f.lines
+                left = x0 + f.front_s_cm - (row + 1) * L
+                over = not (left + L <= x0 or left >= x1)
+                side.append([(left, layer * H), (left + L, layer * H), (left + L, (layer + 1) * H),
+                             (left, (layer + 1) * H)])
+                cols.append("#e377c2" if over else "#9467bd")
+                top = max(top, layer + 1)
+        self.side.set_verts(side)
+        self.side.set_facecolors(cols)
+        self.sv.set_ylim(-3 * L, max(3 * L, (top + 1) * H))
+        members = set(f.members)
+        free = [i for i in range(len(f.x)) if i not in members]
+        self.free_dots.set_offsets(np.c_[f.x[free], np.full(len(free), 0.5 * H)] if free else np.empty((0, 2)))
+        self.free_dots.set_color([COLOURS[Mode(int(f.mode[i]))] for i in free] if free else [])
+        return self.fig
+
+    def close(self):
+        import matplotlib.pyplot as plt
+
+        plt.close(self.fig)
+
+
+def draw(f: Frame, p: Params) -> Renderer:
+    """One frame (top view + side-view strip); ``.fig`` is the matplotlib Figure."""
+    r = Renderer(p)
+    r.update(f)
+    return r
 
 
 def _atomic_target(path: Path) -> Path:
@@ -159,24 +195,21 @@ def write_video(frames: list, p: Params, path: str | os.PathLike, fps: int = 10,
         import imageio.v2 as imageio
     except ImportError as exc:  # pragma: no cover - video extra missing
         raise InputError(f"--video needs imageio (pip install 'voidcross[video]'): {exc}") from None
-    import matplotlib.pyplot as plt
-
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = _atomic_target(path)
-    fig = None
+    rend = Renderer(p)
     try:
         kw = {"fps": fps, "macro_block_size": 1} if ext == ".mp4" else {"duration": 1.0 / fps, "loop": 0}
         with imageio.get_writer(tmp, format="FFMPEG" if ext == ".mp4" else "GIF", **kw) as w:
             for f in progress(frames, len(frames)):
-                fig = draw(f, p, fig)
+                fig = rend.update(f)
                 fig.canvas.draw()
                 img = np.asarray(fig.canvas.buffer_rgba())[:, :, :3]
                 w.append_data(img)
         os.chmod(tmp, 0o644)
         os.replace(tmp, path)
     finally:
-        if fig is not None:
-            plt.close(fig)
+        rend.close()
         if tmp.exists():
             tmp.unlink()
     return path
@@ -185,22 +218,19 @@ def write_video(frames: list, p: Params, path: str | os.PathLike, fps: int = 10,
 def write_snapshots(frames: list, p: Params, directory: str | os.PathLike, count: int = 6,
                     progress=lambda it, total: it) -> list[Path]:
     """PNG snapshots at ``count`` evenly spaced times (first and last included)."""
-    import matplotlib.pyplot as plt
-
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
     idx = sorted(set(np.linspace(0, len(frames) - 1, min(count, len(frames))).round().astype(int)))
     out = []
-    fig = None
+    rend = Renderer(p)
     for i in progress(idx, len(idx)):
         f = frames[i]
-        fig = draw(f, p, fig)
+        fig = rend.update(f)
         target = d / f"t{f.t_s:09.2f}s.png"
         tmp = _atomic_target(target)
         fig.savefig(tmp, format="png")
         os.chmod(tmp, 0o644)
         os.replace(tmp, target)
         out.append(target)
-    if fig is not None:
-        plt.close(fig)
+    rend.close()
     return out
