@@ -98,8 +98,7 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
               progress: Progress | None = None, alternative: bool = True, plots: bool = True) -> dict:
     """Derive, write selection_table.{md,csv}, limits.json (+ plots); return the JSON summary."""
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    inp, info = make_inputs(opts)
+    inp, info = make_inputs(opts)  # bad input fails here, before anything is created
     d = derive(inp, progress, narrow=True)
     limits = limits_from(d)
     rows = table(d, progress)
@@ -107,6 +106,7 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
         _alt_thresholds(inp, info, opts)
     info["body_bending"] = body_bending(d)
     md = table_markdown(rows, d, limits, info)
+    out.mkdir(parents=True, exist_ok=True)
     files = {
         "markdown": str(write_text_atomic(out / "selection_table.md", md)),
         "csv": str(write_text_atomic(out / "selection_table.csv", table_csv(rows))),
@@ -188,9 +188,9 @@ def run_study(out: str | Path, opts: RunOptions = RunOptions(), progress: Progre
     from .plots import sensitivity_plot
 
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     inp, info = make_inputs(opts)
     d = derive(inp, progress, extra=2)
+    out.mkdir(parents=True, exist_ok=True)
     files = write_plots(out, d)
     curves = io.StringIO()
     w = csv.writer(curves, lineterminator="\n")

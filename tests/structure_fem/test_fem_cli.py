@@ -86,11 +86,12 @@ def test_caster_clearance_is_the_strict_alternative(cli, tmp_path):
     (("fem", "table", "--properties", "/nonexistent/robot_properties.json"), "not found"),
 ])
 def test_bad_input_is_one_line_exit_2(cli, tmp_path, argv, word):
-    res = cli(*argv, "--out", str(tmp_path)) if argv[1] == "table" else cli(*argv)
+    out = tmp_path / "out"
+    res = cli(*argv, "--out", str(out)) if argv[1] == "table" else cli(*argv)
     assert res.code == 2, res.err
     assert len(res.error_lines) == 1 and res.error_lines[0].startswith("error:")
     assert word in res.error_lines[0]
-    assert not (tmp_path / "limits.json").exists()
+    assert not out.exists()  # nothing created on bad input
 
 
 def test_corrupt_properties_file_is_exit_2_and_keeps_old_outputs(cli, tmp_path):

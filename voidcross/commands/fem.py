@@ -66,7 +66,7 @@ def _bar(iterable, desc, total):
 def run_table(args) -> int:
     from structure_fem.runs import run_table as _run
 
-    res = _run(out_dir(args.out), _opts(args), docs_dir=args.docs, progress=_bar)
+    res = _run(Path(args.out), _opts(args), docs_dir=args.docs, progress=_bar)
     th, tt = res["thresholds"], res["thesis_thresholds"]
     human = (f"derived thresholds (robot widths, clearance {res['clearance_mm']:g} mm): line {th['line']}, "
              f"two_line {th['two_line']}, arch {th['arch']}, arch levels {th['arch_levels']}; "
@@ -85,7 +85,7 @@ def run_table(args) -> int:
 def run_study(args) -> int:
     from structure_fem.runs import run_study as _run
 
-    res = _run(out_dir(args.out), _opts(args), progress=_bar)
+    res = _run(Path(args.out), _opts(args), progress=_bar)
     th = res["thresholds"]
     human = (f"thresholds: line {th['line']}, two_line {th['two_line']}, arch {th['arch']}, "
              f"arch levels {th['arch_levels']} (clearance {res['clearance_mm']:g} mm)\n"
