@@ -110,3 +110,18 @@ def test_flexible_bodies_matter_only_when_joints_are_stiff(make_robot):
         assert lo * rigid.tip_deflection_m <= flex.tip_deflection_m < hi * rigid.tip_deflection_m
         assert math.isfinite(flex.tipping_factor)
     assert math.isfinite(flex.tipping_factor)
+
+
+def test_dead_band_is_odd_and_monotone_for_any_play():
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    @settings(max_examples=200, deadline=None)
+    @given(st.floats(1.0, 1e5), st.floats(0.0, 0.1), st.floats(-0.3, 0.3), st.floats(1e-6, 0.05))
+    def check(k, h, t, dt):
+        m0, m1 = dead_band_moment(t, k, h), dead_band_moment(t + dt, k, h)
+        assert m1 >= m0 - 1e-12 * k
+        assert dead_band_moment(-t, k, h) == pytest.approx(-m0, abs=1e-9 * k)
+        assert abs(m0) <= k * abs(t) + 1e-12 * k  # never stiffer than the spring without play
+
+    check()
