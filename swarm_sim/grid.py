@@ -69,20 +69,22 @@ if HAVE_NUMBA:
     @numba.njit(cache=True, error_model="numpy")
     def hash_build(x, y, radius):  # pragma: no cover - compiled
         """Robots binned over cells of side ``2 * radius`` folded onto a K x K table
-        (K^2 ~ 2N, cell (cx, cy) -> bucket (cx mod K, cy mod K)): (counts, items, sx, sy, K).
+        (K a power of two, 2N <= K^2 < 8N; cell (cx, cy) -> bucket (cx mod K, cy mod K)):
+        (counts, items, sx, sy, K).
         Memory and time are O(N) for any arena; neighbouring cells stay neighbours in
         memory (cache-friendly); folding only adds candidates, which the distance test
         rejects. sx/sy are the positions in bucket order (a snapshot, so callers may move
         robots meanwhile)."""
         n = x.shape[0]
         k = 1
-        while k * k < 2 * n:
-            k += 1
+        while k * k < 2 * n:  # a power of two, so "mod K" is a bit mask (integer % is slow)
+            k *= 2
+        km = k - 1
         inv = 0.5 / radius
         counts = np.zeros(k * k + 1, np.int64)
         bucket = np.empty(n, np.int64)
         for i in range(n):
-            b = (np.int64(math.floor(x[i] * inv)) % k) * k + np.int64(math.floor(y[i] * inv)) % k
+            b = (np.int64(math.floor(x[i] * inv)) & km) * k + (np.int64(math.floor(y[i] * inv)) & km)
             bucket[i] = b
             counts[b + 1] += 1
         for b in range(k * k):
@@ -115,7 +117,7 @@ if HAVE_NUMBA:
         r2 = radius * radius
         for gx in range(x_lo, x_lo + 2):
             for gy in range(y_lo, y_lo + 2):
-                b = (gx % mask) * mask + gy % mask
+                b = (gx & (mask - 1)) * mask + (gy & (mask - 1))
                 for k in range(counts[b], counts[b + 1]):
                     ddx = sx[k] - xi
                     ddy = sy[k] - yi
