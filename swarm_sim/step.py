@@ -36,6 +36,7 @@ _P_WANDER = int(Phase.WANDER)
 _P_SUCCESS = int(Phase.SUCCESS)
 _P_RETREATED = int(Phase.RETREATED)
 _P_TIMEOUT = int(Phase.TIMEOUT)
+EPS_MOVE = 1e-9
 DISPERSE_S = 2.0  # released robots drive straight away from the structure this long
 ENDED = (_P_SUCCESS, _P_RETREATED, _P_TIMEOUT)
 WALKING_LUT = np.zeros(len(Mode), dtype=bool)
@@ -328,5 +329,3 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
                   events=state.events + tuple(events) if events else state.events)
     return new
 
-
-EPS_MOVE = 1e-9
