@@ -19,10 +19,10 @@ import math
 
 import numpy as np
 
-from .grid import HAVE_NUMBA, blocked_ahead, numba
+from .grid import HAVE_NUMBA, blocked_ahead, neighbour_list, numba
 
 if HAVE_NUMBA:
-    from .grid import hash_ahead, hash_build
+    from .grid import verlet_ahead
 from .params import Params
 from .world import World, wrap
 
@@ -109,8 +109,9 @@ if HAVE_NUMBA:
     @numba.njit(cache=True, error_model="numpy")
     def _walk_kernel(x, y, h, goal, run_left, walkers, straight, u, sq, hl, hw, W, H, x0, x1,
                      obs, r, detect, avoid, dist, turn_max, levy, mu, lmin, lmax, p_turn,
-                     turn_rad):  # pragma: no cover - compiled
-        g_cnt, g_items, g_x, g_y, g_mask = hash_build(x, y, avoid)  # positions before anyone moves
+                     turn_rad, snap_x, snap_y, nbr_start, nbr_idx):  # pragma: no cover - compiled
+        # snap_x, snap_y: positions before anyone moves (the neighbour list was built from them)
+        r2 = avoid * avoid
         q = 0.5 * hw
         a = mu - 1.0
         mid = 0.5 * (x0 + x1)
@@ -140,7 +141,7 @@ if HAVE_NUMBA:
                 if dx * dx + dy * dy < (obs[o, 2] + avoid) ** 2 and dx * c + dy * s > 0:
                     hz = True
             if not hz and not straight[k]:
-                hz = hash_ahead(i, wx, wy, c, s, avoid, g_cnt, g_items, g_x, g_y, g_mask)
+                hz = verlet_ahead(i, wx, wy, c, s, r2, snap_x, snap_y, nbr_start, nbr_idx)
             g = goal[i]
             rl = run_left[i]
             if hz:
@@ -192,19 +193,30 @@ if HAVE_NUMBA:
             run_left[i] = rl
 
 
+_U_CACHE: dict = {}
+
+
 def walk(x, y, h, goal, run_left, walkers, straight, world: World, p: Params, rng: np.random.Generator,
          use_numba: bool | None = None):
     """Advance ``walkers`` (int index array) by one step; ``straight`` (bool over walkers)
     marks dispersing robots that keep their heading goal and ignore other robots.
     Returns new (x, y, h, goal, run_left) full arrays. Both back-ends consume the same
     random numbers, so a seed gives the same run with or without numba."""
+    px, py = x, y  # inputs are never mutated: they are the pre-step snapshot
     x, y, h, goal, run_left = x.copy(), y.copy(), h.copy(), goal.copy(), run_left.copy()
     k = walkers.size
     if k == 0:
         return x, y, h, goal, run_left
     if use_numba is None:
         use_numba = HAVE_NUMBA
-    u = rng.random((4, k))
+    if k >= 4096:  # reuse a buffer: fresh large arrays every step cost page faults
+        u = _U_CACHE.get(k)
+        if u is None:
+            _U_CACHE.clear()
+            u = _U_CACHE[k] = np.empty((4, k))
+        rng.random(out=u)
+    else:
+        u = rng.random((4, k))
     if use_numba and HAVE_NUMBA and world.shape == "square":
         _walk_kernel(x, y, h, goal, run_left, walkers.astype(np.int64), straight, u,
                      True, 0.5 * world.length_cm, 0.5 * world.width_cm, world.w_cm, world.h_cm,
@@ -212,7 +224,8 @@ def walk(x, y, h, goal, run_left, walkers, straight, world: World, p: Params, rn
                      world.x1_cm if np.isfinite(world.x1_cm) else 1e308,
                      world.obstacles, world.body_radius_cm, world.detect_cm, world.avoid_cm,
                      p.speed_cm_s * p.dt_s, p.turn_max_rad, p.walk == "levy", p.levy_mu,
-                     p.levy_min_cm, p.levy_max_cm, p.random_turn_prob, p.random_turn_rad)
+                     p.levy_min_cm, p.levy_max_cm, p.random_turn_prob, p.random_turn_rad,
+                     px, py, *neighbour_list(px, py, p.avoid_cm)[7:9])
     else:
         q = walkers[~straight]
         blocked = blocked_ahead(x, y, h, q, p.avoid_cm, use_numba)[walkers] if q.size else np.zeros(k, bool)
