@@ -1,9 +1,10 @@
 """Neighbour queries through a uniform grid (cell = query radius): O(N), never N x N.
 
 :func:`blocked_ahead` answers, for each querying robot, "is another robot's centre
-within ``radius_cm`` and in my front half-plane?". A numba kernel (counting sort
-of the cells into a spatial hash of ~2N buckets, then a 3 x 3 cell scan) is used when numba is installed; otherwise a
-vectorised numpy version (sort + searchsorted pair generation) gives identical results.
+within ``radius_cm`` and in my front half-plane?". With numba the cells
+are folded onto a power-of-two K x K table (K^2 >= 2N) and scanned 2 x 2, and the walk kernel
+keeps a Verlet neighbour list built from them (:func:`neighbour_list`); otherwise a vectorised
+numpy version (sort + searchsorted pair generation) gives identical results.
 """
 
 from __future__ import annotations
