@@ -78,3 +78,15 @@ def test_structure_timeline_follows_the_thesis_counts():
     assert kinds.index("far_ledge") > kinds.index("dock")
     assert kinds.count("dock") == 5 and kinds.count("release_front") == 6
     assert "retreat" not in kinds
+
+
+def test_case_a_five_widths_needs_17_in_a_longer_arena():
+    """Ch. 4.7: case A needs 17 robots for a 5-wide void. The 250 cm case-A arena cannot hold
+    the 12-robot counterweight line, so the arena is lengthened (the thesis's own remark)."""
+    need = n_min(5, margin=2)
+    assert need == 17
+    kw = {"arena_w_cm": 700.0, "target_x_cm": 680.0}
+    ok = run_scenario("case-a", need, 5, 1, limits="thesis", check_invariants=True, **kw)
+    assert ok.success and ok.robots_lost == 0, ok.to_dict()
+    fail = run_scenario("case-a", need - 1, 5, 1, limits="thesis", check_invariants=True, **kw)
+    assert fail.retreated and fail.robots_lost == 0 and fail.robots_on_initial_side == need - 1
