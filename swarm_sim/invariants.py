@@ -14,7 +14,7 @@ import numpy as np
 
 from . import structure as S
 from .params import Params
-from .state import Mode, SwarmState
+from .state import OPEN, Mode, SwarmState
 from .world import World
 
 
@@ -28,8 +28,9 @@ def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> lis
         out.append(f"t={state.t_s:.2f}s: non-finite robot pose")
         return out
     st = state.structure
-    members = set(st.members) if st is not None else set()
-    if st is not None and len(members) != len(st.members):
+    filled = [m for m in st.members if m != OPEN] if st is not None else []
+    members = set(filled)
+    if st is not None and len(members) != len(filled):
         out.append(f"t={state.t_s:.2f}s: duplicate structure members {st.members}")
     ex, ey = world.half_extents(state.heading_rad)
     x, y = state.x_cm, state.y_cm
@@ -42,13 +43,14 @@ def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> lis
         c = S.counts_at(st.front_s_cm, S.full_rows(st), p.robot_length_cm, p.void_width_cm)
         if S.all_rows(st) > S.full_rows(st) and S.centres_s(st, p.robot_length_cm)[-1] > 0:
             out.append(f"t={state.t_s:.2f}s: a partly filled row is off the initial ground")
+        p = S.level_params(p, st)
         if c.n_g and not S.stable(c, p):
             out.append(f"t={state.t_s:.2f}s: structure n_p={c.n_p} n_g={c.n_g} n_o={c.n_o} breaks the "
                        f"rule (ratio {p.ground_ratio}, margin {p.ground_margin}, span {p.max_span_widths})")
-        ids = np.array(st.members)
-        if (state.struct_index[ids] != np.arange(len(ids)) // S.row_size(st) + 1).any():
+        ids, slots = S.occupied(st)
+        if (state.struct_index[ids] != slots // S.row_size(st) + 1).any():
             out.append(f"t={state.t_s:.2f}s: structure indices {state.struct_index[ids].tolist()} are not 1..n")
-        mx, my, _ = S.member_poses(st, p.robot_length_cm, p.robot_width_cm)
+        mx, my, _ = S.member_poses(st, p.robot_length_cm, p.robot_width_cm, slots)
         if np.abs(state.x_cm[ids] - mx).max() > 1e-6 or np.abs(state.y_cm[ids] - my).max() > 1e-6:
             out.append(f"t={state.t_s:.2f}s: structure members are off the line")
     outside = (x - ex < -1e-6) | (x + ex > world.w_cm + 1e-6) | (y - ey < -1e-6) | (y + ey > world.h_cm + 1e-6)
@@ -62,5 +64,5 @@ def lost_robots(state: SwarmState, world: World) -> np.ndarray:
     """Robots that would fall: body over the void while not in the structure (cheap check)."""
     over = world.over_void(state.x_cm, state.heading_rad)
     if state.structure is not None and state.structure.members:
-        over[np.array(state.structure.members)] = False
+        over[S.occupied(state.structure)[0]] = False
     return np.flatnonzero(over)

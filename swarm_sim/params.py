@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import tomllib
 from dataclasses import dataclass, field, fields, replace
+from functools import lru_cache
 from importlib import resources
 from pathlib import Path
 
@@ -21,7 +22,7 @@ CASES = ("A", "B", "C", "D")
 STARTS = ("fixed", "random")
 WALKS = ("levy", "random")
 SHAPES = ("square", "octagon")
-STRUCTURES = ("line", "auto")
+STRUCTURES = ("line", "auto", "switch")
 
 #: TOML "section.key" -> flat Params field.
 TOML_KEYS = {
@@ -42,7 +43,7 @@ TOML_KEYS = {
     "exploration.random_turn_prob": "random_turn_prob",
     "exploration.random_turn_rad": "random_turn_rad",
     "sim.dt_s": "dt_s", "sim.max_time_s": "max_time_s",
-    "sim.wander_after_retreat_s": "wander_after_retreat_s",
+    "sim.wander_after_retreat_s": "wander_after_retreat_s", "sim.finish_delivery": "finish_delivery",
 }
 
 
@@ -86,6 +87,7 @@ class Params:
     dt_s: float = 0.01
     max_time_s: float = 1500.0
     wander_after_retreat_s: float = 5.0
+    finish_delivery: bool = False  # success waits for the structure to dissolve (large voids: Fig. 5.13)
     # behaviour timing of the structure (not in the thesis; small, documented)
     release_clear_s: float = 1.0
     recruit_timeout_s: float = 120.0
@@ -100,6 +102,9 @@ class Params:
     level_name: str = "line"
     lines: int = 1
     layers: int = 1
+    #: structure = "switch": every level of the record, in order, as
+    #: (name, lines, layers, ground_ratio, ground_margin incl. case margin, max_span_widths)
+    switch_levels: tuple = ()
     extra: dict = field(default_factory=dict, compare=False)
 
     # ------------------------------------------------------------------ derived geometry
@@ -233,7 +238,8 @@ def load_preset(preset: str) -> Params:
 def with_overrides(params: Params, overrides: dict, source: str = "override") -> Params:
     names = {f.name for f in fields(Params)} - {"extra", "limits_source", "ground_ratio", "ground_margin",
                                                 "max_span_widths", "min_robots_rule", "record_min_robots",
-                                                "level_name", "lines", "layers"}
+                                                "level_name", "lines", "layers",
+                                                "switch_levels"}
     clean = {}
     for k, v in overrides.items():
         if k not in names:
@@ -253,12 +259,16 @@ def with_limits(params: Params, limits) -> Params:
     """Resolve the structure and its stability rule from a ``StructureLimits`` record.
 
     ``structure = "line"``: the single line of the small-void algorithms (a void wider than
-    the line may span ends in a retreat). ``"auto"``: the record's level for the void width
-    (two lines, arches: ``lines`` x ``layers`` robots per row); a void wider than the widest
-    level is rejected before the run.
+    the line may span ends in a retreat). ``"switch"`` (Ch. 5.5.2): the robots do not know
+    the void width; the structure starts as the record's first level and upgrades to the
+    next one during the build whenever the front has not found the far ledge and one more
+    advance would exceed the current level's span (the resolved rule fields describe the
+    first level; ``switch_levels`` holds them all). ``"auto"``: the record's level for the
+    void width from the start, as if the width were known (like case B). For ``switch`` and
+    ``auto`` a void wider than the widest level is rejected before the run.
     """
     w = params.void_width
-    if params.structure == "auto":
+    if params.structure in ("auto", "switch"):
         if w > limits.max_span_widths:
             raise InputError(f"void_width {w} is wider than the widest structure in the {limits.source} "
                              f"limits ({limits.max_span_widths} robot widths)")
@@ -267,14 +277,39 @@ def with_limits(params: Params, limits) -> Params:
         level = next((lvl for lvl in limits.levels if lvl.kind == "line"), None)
         if level is None:
             raise InputError(f"the {limits.source} limits define no single-line structure")
+
+    def rows_for(lvl, width):
+        return width + math.ceil(lvl.ground_ratio * width + int(lvl.ground_margin) + params.case_margin - 1e-9)
+
     margin = int(level.ground_margin) + params.case_margin
     if w <= level.max_span_widths:
-        rows = w + math.ceil(level.ground_ratio * w + margin - 1e-9)
-        rule_min = rows * level.lines * level.layers
+        rule_min = rows_for(level, w) * level.lines * level.layers
         record_min = level.robots_for(w) + params.case_margin
     else:
         rule_min = record_min = 0  # this structure cannot span it: the swarm must retreat
+    switch: tuple = ()
+    if params.structure == "switch":
+        switch = tuple((lvl.name, int(lvl.lines), int(lvl.layers), float(lvl.ground_ratio),
+                        int(lvl.ground_margin) + params.case_margin, int(lvl.max_span_widths))
+                       for lvl in limits.levels)
+        # every level passed on the way keeps its rows (they are widened, not rebuilt): the swarm
+        # needs the most robots of any stage: rows at each switch times the next level's row size
+        chain = [lvl for lvl in limits.levels if lvl.max_span_widths < w] + [level]
+        need = rows_for(level, w) * level.lines * level.layers
+        for a, b in zip(chain, chain[1:], strict=False):
+            need = max(need, rows_for(a, a.max_span_widths) * b.lines * b.layers)
+        rule_min = need
+        level = limits.levels[0]
+        margin = int(level.ground_margin) + params.case_margin
     return replace(params, limits_source=limits.source, ground_ratio=float(level.ground_ratio),
                    ground_margin=margin, max_span_widths=int(level.max_span_widths), min_robots_rule=int(rule_min),
                    record_min_robots=int(record_min), level_name=level.name, lines=int(level.lines),
-                   layers=int(level.layers))
+                   layers=int(level.layers), switch_levels=switch)
+
+
+@lru_cache(maxsize=64)
+def at_level(params: Params, i: int) -> Params:
+    """``params`` with the rule and cross-section of switch level ``i`` (``structure = "switch"``)."""
+    name, lines, layers, ratio, margin, span = params.switch_levels[i]
+    return replace(params, level_name=name, lines=lines, layers=layers, ground_ratio=ratio,
+                   ground_margin=margin, max_span_widths=span)

@@ -134,19 +134,22 @@ class Renderer:
             t.remove()
         self.texts = []
         ids = np.array(f.members, dtype=int)
-        self.outline.set_verts(polys[ids] if len(ids) else [])
+        slots = np.flatnonzero(ids >= 0)  # open slots (-1) of a switch not yet filled
+        self.outline.set_verts(polys[ids[slots]] if len(slots) else [])
         if 0 < len(ids) <= 40 * f.row_size:
             for m, i in enumerate(ids):
-                if (m % f.row_size) < f.lines:  # label the ground layer with the row number
+                if i >= 0 and (m % f.row_size) < f.lines:  # label the ground layer with the row number
                     self.texts.append(self.ax.text(f.x[i], f.y[i], str(m // f.row_size + 1), ha="center",
                                                    va="center", fontsize=6, color="w"))
         counts = {k: int((f.state == k).sum()) for k in (-1, -2, -3)}
         self.title.set_text(f"{p.preset}  N={p.robots}  void={p.void_width} widths  t = {f.t_s:7.2f} s   "
-                            f"structure {len(f.members)}  states -1:{counts[-1]} -2:{counts[-2]} -3:{counts[-3]}")
+                            f"structure {sum(1 for i in f.members if i >= 0)}  states -1:{counts[-1]} -2:{counts[-2]} -3:{counts[-3]}")
         side, cols, top = [], [], 0
         x0, x1 = p.void_x0_cm, p.void_x1_cm
         if f.front_s_cm is not None:
             for m in range(len(f.members)):
+                if f.members[m] < 0:
+                    continue
                 row, q = divmod(m, f.row_size)
                 if q % f.lines:
                     continue  # side lines hide behind the core line in the side view

@@ -49,12 +49,24 @@ class RunResult:
     wall_s: float
     violations: list = field(default_factory=list)
     events: list = field(default_factory=list)
+    #: structure levels the run built, first to last (switches during the build, Ch. 5.5.2)
+    levels_used: list = field(default_factory=list)
+    #: one entry per switch: {"t_s", "level", "lines", "layers", "n_g", "rows"}
+    switches: list = field(default_factory=list)
+    #: the seed's aligned position along the edge (y, cm; Fig. 5.10)
+    seed_edge_cm: float | None = None
+    #: Fig. 5.13: {"assembly": s, "disassembly": s} (see :func:`construction_times`)
+    construction: dict = field(default_factory=dict)
 
     def to_dict(self, events: bool = False) -> dict:
         d = {k: getattr(self, k) for k in (
             "success", "retreated", "timed_out", "robots_lost", "times", "seed_robot", "seed_position",
             "target_finder", "preset", "robots", "void_width", "seed", "limits_source", "min_robots_rule",
-            "robots_delivered", "robots_on_initial_side", "steps", "wall_s", "violations")}
+            "robots_delivered", "robots_on_initial_side", "steps", "wall_s", "violations",
+            "levels_used", "switches", "seed_edge_cm")}
+        d["switches"] = [dict(x) for x in self.switches]
+        d["assembly"] = self.construction.get("assembly")
+        d["disassembly"] = self.construction.get("disassembly")
         d["times"] = dict(self.times)
         if events:
             d["events"] = [{"t_s": t, "kind": k, "robot": r, **data} for t, k, r, data in self.events]
@@ -172,6 +184,35 @@ def times_from_events(events: tuple, t_end: float, phase: int) -> dict:
     return {k: (round(v, 6) if v is not None else None) for k, v in out.items()}
 
 
+def construction_times(events: tuple, phase: int | None = None) -> dict:
+    """Fig. 5.13's two construction times (s; null when the run never reached them).
+
+    ``assembly``: from the seed aligned at the edge until the structure is built and
+    delivers (its first front release); for a run that retreats, until the retreat
+    decision. ``disassembly``: from the last robot joining (no free robot left on the
+    initial side) until the structure has dissolved on the target side; for a retreat,
+    from the retreat decision until dissolved (= T_d).
+    """
+    first, last = {}, {}
+    for t, kind, _r, _d in events:
+        first.setdefault(kind, t)
+        last[kind] = t
+    out = {"assembly": None, "disassembly": None}
+    t_al = first.get("aligned")
+    if t_al is None:
+        return out
+    t_rel, t_ret, t_dis = first.get("release_front"), first.get("retreat"), first.get("dissolved")
+    if t_ret is not None:
+        out["assembly"] = t_ret - t_al
+        if t_dis is not None:
+            out["disassembly"] = t_dis - t_ret
+    elif t_rel is not None:
+        out["assembly"] = t_rel - t_al
+        if t_dis is not None:
+            out["disassembly"] = t_dis - max(last.get("dock", t_rel), t_rel)
+    return {k: (round(v, 6) if v is not None else None) for k, v in out.items()}
+
+
 # ---------------------------------------------------------------------------- run
 
 def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None = None,
@@ -215,8 +256,20 @@ def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None
         target_finder=state.target_finder if state.target_finder >= 0 else None,
         min_robots_rule=p.min_robots_rule, robots_delivered=int((side > 0).sum()),
         robots_on_initial_side=int((side < 0).sum()), steps=state.step, wall_s=round(wall, 4),
-        violations=viol, events=list(state.events))
+        violations=viol, events=list(state.events),
+        levels_used=_levels_used(p, state.events), switches=[
+            {"t_s": t, "level": d["level"], "lines": d["lines"], "layers": d["layers"], "n_g": d["n_g"],
+             "rows": d["rows"]} for t, k, _r, d in state.events if k == "switch"],
+        seed_edge_cm=float(state.seed_position[1]) if state.seed_position is not None else None,
+        construction=construction_times(state.events, state.phase))
     return state, res
+
+
+def _levels_used(p: Params, events) -> list:
+    if not p.switch_levels:
+        return [p.level_name] if any(k == "aligned" for _t, k, _r, _d in events) else []
+    used = [p.switch_levels[0][0]] if any(k == "aligned" for _t, k, _r, _d in events) else []
+    return used + [d["level"] for _t, k, _r, d in events if k == "switch"]
 
 
 def run_scenario(preset: str, robots: int, void_width: int, seed: int, limits: str = "derived",

@@ -38,6 +38,10 @@ class Phase(IntEnum):
     TIMEOUT = 6       # max_time_s reached
 
 
+#: An open slot in ``Structure.members`` (a new line/layer not yet filled after a switch).
+OPEN = -1
+
+
 @dataclass(frozen=True)
 class Structure:
     """A rigid bridge: ``members`` ordered front (index 1) to rear, moving as one body.
@@ -47,6 +51,8 @@ class Structure:
     face's distance past the near edge along ``direction``. Member k (0-based from
     the front) has its centre at ``origin + (front_s_cm - (k + 0.5) * L) * direction``.
     ``lines``/``layers`` describe the cross-section (1 x 1 for the single line).
+    ``members`` is row-major (row, then line, then layer); after a switch to a wider level
+    the new lines/layers are open slots (``-1``) until they are filled (:data:`OPEN`).
     """
 
     members: tuple[int, ...]
@@ -61,10 +67,12 @@ class Structure:
     goal_s_cm: float = 0.0         # front_s target of the current move
     wait_until_s: float = 0.0
     recruits: tuple[int, ...] = ()   # robots called for the rear slots, in slot order
+    recruit_slots: tuple[int, ...] = ()  # the slot each recruit docks at (row-major member index)
     recruit_since_s: float = 0.0
     lateral_sign: float = 1.0        # extra lines go to this side of the core line
     landed: bool = False
     retreating: bool = False
+    level: int = 0                   # index into Params.switch_levels (structure = "switch")
 
 
 @dataclass(frozen=True)

@@ -18,8 +18,8 @@ import numpy as np
 
 from . import structure as S
 from .explore import walk
-from .params import Params
-from .state import WALKING_MODES, Mode, Phase, Structure, SwarmState
+from .params import Params, at_level
+from .state import OPEN, WALKING_MODES, Mode, Phase, Structure, SwarmState
 from .world import World, wrap
 
 _EXPLORE = int(Mode.EXPLORE)
@@ -98,10 +98,9 @@ def _slide_off(x, y, h, dist, world: World):
 def _place_members(arr, st: Structure, p: Params):
     x, y, h, idx, sline, slayer = arr
     if st.members:
-        mx, my, mh = S.member_poses(st, p.robot_length_cm, p.robot_width_cm)
-        ids = np.array(st.members)
+        ids, m = S.occupied(st)
+        mx, my, mh = S.member_poses(st, p.robot_length_cm, p.robot_width_cm, m)
         x[ids], y[ids], h[ids] = mx, my, mh
-        m = np.arange(len(ids))
         k = S.row_size(st)
         if k == 1:
             idx[ids] = m + 1
@@ -201,10 +200,9 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
                 ev("far_ledge", st.members[0], front_s_cm=round(st.front_s_cm, 6))
         elif st.action == "recruit":
             dir_h = math.atan2(st.dir_y, st.dir_x)
-            base = len(st.members)
             arrived_all = True
-            for q, r in enumerate(st.recruits):
-                dxp, dyp, _, _ = S.slot_pose(st, base + q, L, p.robot_width_cm)
+            for r, slot in zip(st.recruits, st.recruit_slots, strict=True):
+                dxp, dyp, _, _ = S.slot_pose(st, slot, L, p.robot_width_cm)
                 stage_back = min(2 * L, max(0.0, (dxp - world.body_radius_cm - 0.5) * st.dir_x
                                             if st.dir_x > 0 else 2 * L))
                 wxp, wyp = dxp - stage_back * st.dir_x, dyp - stage_back * st.dir_y
@@ -222,26 +220,44 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
                         nx, ny, nh = dxp, dyp, dir_h
                 x[r], y[r], h[r] = nx, ny, nh
             if arrived_all:
-                members = st.members + st.recruits
+                if S.filling(st):
+                    # a new line/layer grows from the rear: its robots slide forward one row
+                    # along the core and the recruit takes the rear slot (kinematic)
+                    members = list(st.members)
+                    k = S.row_size(st)
+                    for r, slot in zip(st.recruits, st.recruit_slots, strict=True):
+                        col = members[slot % k::k]
+                        members[slot % k::k] = col[1:] + [r]
+                    members = tuple(members)
+                else:
+                    members = st.members + st.recruits
                 for r in st.recruits:
                     mode[r] = _MEMBER
                 ev("dock", st.recruits[0], index=len(members), robots=list(st.recruits))
-                st = replace(st, members=members, recruits=(), action="idle")
+                st = replace(st, members=members, recruits=(), recruit_slots=(), action="idle")
             elif t - st.recruit_since_s > p.recruit_timeout_s:
                 for r in st.recruits:
                     mode[r] = _EXPLORE
                 ev("recruit_timeout", st.recruits[0], robots=list(st.recruits))
-                st = replace(st, recruits=(), action="idle")
+                st = replace(st, recruits=(), recruit_slots=(), action="idle")
         if st.action == "idle":
             free = np.flatnonzero(mode == _EXPLORE)
             k = S.row_size(st)
-            n_slots = k - len(st.members) % k if len(st.members) % k else k
-            slots = [S.slot_pose(st, len(st.members) + q, L, p.robot_width_cm) for q in range(n_slots)]
+            if S.filling(st):
+                # after a switch: one robot for each new line/layer, docking at the rear row
+                rear = (S.all_rows(st) - 1) * k
+                slot_ids = [rear + q for q in S.open_columns(st)]
+                enough = free.size >= 1
+            else:
+                n_slots = k - len(st.members) % k if len(st.members) % k else k
+                slot_ids = [len(st.members) + q for q in range(n_slots)]
+                enough = free.size >= n_slots
+            slots = [S.slot_pose(st, q, L, p.robot_width_cm) for q in slot_ids]
             dock_ok = all(world.pose_ok1(sx_, sy_, 0.0) for sx_, sy_, _, _ in slots)
             # a row is recruited whole (assumption 5 of Ch. 5.4: several robots at once)
-            action, sit = S.decide(st, p, free.size >= n_slots, dock_ok)
+            action, sit = S.decide(st, p, enough, dock_ok)
             if action == "release_front":
-                row = st.members[:k]
+                row = [r for r in st.members[:k] if r != OPEN]
                 members = st.members[k:]
                 for fr in row:
                     mode[fr] = _TARGET
@@ -256,7 +272,7 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
                 ev("release_front", row[0], n_left=len(members), robots=list(row))
             elif action == "release_rear":
                 cut = len(st.members) % k or k
-                row = st.members[-cut:]
+                row = [r for r in st.members[-cut:] if r != OPEN]
                 members = st.members[:-cut]
                 for rr in row:
                     mode[rr] = _RETREAT
@@ -281,13 +297,21 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
                     chosen.append(int(pool.pop(int(np.argmin(d2)))))
                 for r in chosen:
                     mode[r] = _RECRUIT
-                st = replace(st, action="recruit", recruits=tuple(chosen), recruit_since_s=t)
+                st = replace(st, action="recruit", recruits=tuple(chosen), recruit_slots=tuple(slot_ids[:len(chosen)]),
+                             recruit_since_s=t)
                 ev("recruit", chosen[0], n=len(st.members), robots=chosen)
+            elif action == "switch":
+                nxt = st.level + 1
+                pl = at_level(p, nxt)
+                st = replace(st, members=S.widened(st, pl.lines, pl.layers), lines=pl.lines, layers=pl.layers,
+                             level=nxt)
+                ev("switch", st.members[0], level=pl.level_name, lines=pl.lines, layers=pl.layers,
+                   n_p=sit.counts.n_p, n_g=sit.counts.n_g, rows=S.all_rows(st))
             elif action == "retreat":
                 st = replace(st, retreating=True)
                 ev("retreat", st.members[0] if st.members else -1,
                    n=len(st.members), n_p=sit.counts.n_p, n_g=sit.counts.n_g, free=int(free.size),
-                   why="span" if sit.span_blocked else "no_free_robot")
+                   why="span" if sit.span_blocked and not sit.filling else "no_free_robot")
         if st.action in ("wait", "idle") and not st.members:
             # the structure is gone
             if st.retreating:
@@ -304,16 +328,20 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
 
     # 4. target, wander clock, timeout
     target_finder = state.target_finder
-    if phase in (_P_BUILD, _P_DELIVERED):
+    if phase in (_P_BUILD, _P_DELIVERED) and target_finder < 0:
         tg = np.flatnonzero(mode == _TARGET)
         if tg.size:
             d2 = (x[tg] - world.target_x_cm) ** 2 + (y[tg] - world.target_y_cm) ** 2
             hit = d2 <= world.target_found_cm ** 2
             if hit.any():
                 target_finder = int(tg[hit][np.argmin(d2[hit])])
-                phase, phase_since = _P_SUCCESS, t
                 ev("target_found", target_finder)
-                mode[WALKING_LUT[mode]] = _STOPPED
+    # the run succeeds once the target is found (finish_delivery: and the structure has
+    # delivered everyone and dissolved, so the disassembly time is measured)
+    if target_finder >= 0 and phase in (_P_BUILD, _P_DELIVERED) and (
+            not p.finish_delivery or phase == _P_DELIVERED):
+        phase, phase_since = _P_SUCCESS, t
+        mode[WALKING_LUT[mode]] = _STOPPED
     if phase == _P_WANDER and t - phase_since >= p.wander_after_retreat_s - 1e-9:
         phase, phase_since = _P_RETREATED, t
         mode[:] = _STOPPED

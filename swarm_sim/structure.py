@@ -33,8 +33,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .params import Params
-from .state import Structure
+from .params import Params, at_level
+from .state import OPEN, Structure
 
 EPS = 1e-6
 
@@ -87,10 +87,47 @@ def slot_pose(st: Structure, m: int, L: float, W: float) -> tuple[float, float, 
             line, layer)
 
 
-def member_poses(st: Structure, L: float, W: float | None = None) -> tuple[np.ndarray, np.ndarray, float]:
+def level_params(p: Params, st: Structure) -> Params:
+    """The rule in force for this structure: its switch level's (``structure = "switch"``), else ``p``."""
+    return at_level(p, st.level) if p.switch_levels else p
+
+
+def occupied(st: Structure) -> tuple[np.ndarray, np.ndarray]:
+    """(robot ids, their slot indices) of the filled slots, front to rear."""
+    mem = np.asarray(st.members, dtype=np.int64)
+    slots = np.flatnonzero(mem != OPEN)
+    return mem[slots], slots
+
+
+def open_columns(st: Structure) -> list[int]:
+    """Row positions q (line + layer * lines) that still have an open slot after a switch."""
+    k = row_size(st)
+    return sorted({m % k for m, r in enumerate(st.members) if r == OPEN})
+
+
+def filling(st: Structure) -> bool:
+    return OPEN in st.members
+
+
+def widened(st: Structure, lines: int, layers: int) -> tuple[int, ...]:
+    """Members laid out for a wider cross-section: every robot keeps its row, line and layer;
+    the new lines/layers are open slots."""
+    k_old, k_new = row_size(st), lines * layers
+    rows = all_rows(st)
+    out = [OPEN] * (rows * k_new)
+    for m, r in enumerate(st.members):
+        row, q = divmod(m, k_old)
+        line, layer = q % st.lines, q // st.lines
+        out[row * k_new + line + layer * lines] = r
+    return tuple(out)
+
+
+def member_poses(st: Structure, L: float, W: float | None = None,
+                 m: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, float]:
+    """Centres of the member slots ``m`` (default: every slot) and the common heading."""
     W = L if W is None else W
     k = row_size(st)
-    m = np.arange(len(st.members))
+    m = np.arange(len(st.members)) if m is None else m
     if k == 1:  # the single line
         s = st.front_s_cm - (m + 0.5) * L
         return st.origin_x_cm + s * st.dir_x, st.origin_y_cm + s * st.dir_y, math.atan2(st.dir_y, st.dir_x)
@@ -153,6 +190,8 @@ class Situation:
     span_blocked: bool
     stable_without_front: bool
     stable_without_rear: bool
+    filling: bool = False      # new lines/layers of a switch still have open slots
+    can_switch: bool = False   # structure = "switch" and a wider level follows this one
 
 
 def situation(st: Structure, p: Params, free_available: bool, dock_ok: bool) -> Situation:
@@ -164,13 +203,16 @@ def situation(st: Structure, p: Params, free_available: bool, dock_ok: bool) -> 
     after = counts_at(st.front_s_cm + L, n, L, V)
     span_blocked = not st.landed and after.n_g > p.max_span_widths
     launch_ok = n >= p.launch_min_robots or st.front_s_cm > EPS
-    partial = n_all > n
+    fill = filling(st)
+    short_rear = n_all > n          # a rear row being recruited (not counted)
+    partial = short_rear or fill    # ... or new lines still open after a switch: no move, no release
     can_advance = (launch_ok and not partial and not span_blocked
                    and move_stable(st.front_s_cm, st.front_s_cm + L, n, p))
     wo_front = counts_at(st.front_s_cm - L, n - 1, L, V) if n > 1 else Counts(0, 0, 0)
-    wo_rear = c if partial else (counts_at(st.front_s_cm, n - 1, L, V) if n > 1 else Counts(0, 0, 0))
+    wo_rear = c if short_rear else (counts_at(st.front_s_cm, n - 1, L, V) if n > 1 else Counts(0, 0, 0))
     return Situation(c, n, st.landed, front_on_target and not partial, rear_on_initial, free_available,
-                     dock_ok, can_advance, span_blocked, stable(wo_front, p), stable(wo_rear, p))
+                     dock_ok, can_advance, span_blocked, stable(wo_front, p), stable(wo_rear, p),
+                     fill, bool(p.switch_levels) and st.level + 1 < len(p.switch_levels))
 
 
 def _can_recruit(s: Situation) -> bool:
@@ -180,6 +222,10 @@ def _can_recruit(s: Situation) -> bool:
 #: Building (not retreating): (action, guard) rows, first match wins.
 BUILD_TABLE = (
     ("release_front", lambda s: s.front_on_target and s.stable_without_front),
+    # Ch. 5.5.2: the far ledge is not found within this level's span: widen to the next level
+    ("switch", lambda s: s.span_blocked and s.can_switch and not s.filling),
+    ("recruit", lambda s: s.filling and _can_recruit(s)),   # fill the new lines/layers
+    ("retreat", lambda s: s.filling),                       # ... with no free robot left
     ("retreat", lambda s: s.span_blocked),
     ("recruit", lambda s: _can_recruit(s) and (s.counts.n_p <= s.counts.n_g if s.landed else not s.can_advance)),
     ("advance", lambda s: s.can_advance),
@@ -195,7 +241,7 @@ RETREAT_TABLE = (
 
 
 def decide(st: Structure, p: Params, free_available: bool, dock_ok: bool) -> tuple[str, Situation]:
-    s = situation(st, p, free_available, dock_ok)
+    s = situation(st, level_params(p, st), free_available, dock_ok)
     table = RETREAT_TABLE if st.retreating else BUILD_TABLE
     for action, guard in table:
         if guard(s):
