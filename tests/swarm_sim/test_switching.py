@@ -102,3 +102,14 @@ def test_construction_times_from_the_event_log():
     ev = ((1.0, "seed", 0, {}), (2.0, "aligned", 0, {}), (7.0, "retreat", 0, {}), (9.5, "dissolved", -1, {}))
     assert construction_times(ev) == {"assembly": 5.0, "disassembly": 2.5}
     assert construction_times(((1.0, "seed", 0, {}),)) == {"assembly": None, "disassembly": None}
+
+
+def test_derived_limits_five_widths_switch_to_the_arch_and_the_rule_count_is_exact():
+    """Derived record: the line spans 4, so at n_g = 4 the line (9 rows) widens to the 4 x 2 arch;
+    5 widths then need 5 + (5 + 1) = 11 rows of 8 = 88 robots: 88 cross, 87 retreat."""
+    kw = dict(limits="derived", arena_w_cm=800.0, arena_h_cm=400.0, target_x_cm=750.0, target_y_cm=200.0)
+    ok = run_scenario("large-void", 88, 5, 1, **kw)
+    assert ok.success and ok.robots_lost == 0 and ok.robots_delivered == 88, ok.to_dict()
+    assert ok.min_robots_rule == 88 and [(s["level"], s["n_g"]) for s in ok.switches] == [("arch-4x2-staggered", 4)]
+    fail = run_scenario("large-void", 87, 5, 1, **kw)
+    assert fail.retreated and fail.robots_lost == 0 and fail.robots_on_initial_side == 87
