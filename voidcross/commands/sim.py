@@ -121,7 +121,12 @@ def run(args: argparse.Namespace) -> int:
              f"{outcome}; robots lost {res.robots_lost}\n"
              f"seed robot {res.seed_robot} at {res.seed_position}, target found by {res.target_finder}\n"
              f"Ts {fmt(t['Ts'])}  Ta {fmt(t['Ta'])}  To {fmt(t['To'])}  Td {fmt(t['Td'])}  "
-             f"Tb {fmt(t['Tb'])}  Tt {fmt(t['Tt'])} s (simulated; {res.steps} steps in {res.wall_s:.1f} s)")
+             f"Tb {fmt(t['Tb'])}  Tt {fmt(t['Tt'])} s (simulated; {res.steps} steps in {res.wall_s:.1f} s)\n"
+             f"assembly {fmt(res.construction.get('assembly'))} s, disassembly "
+             f"{fmt(res.construction.get('disassembly'))} s; structures {' -> '.join(res.levels_used) or '-'}")
+    for sw in res.switches:
+        human += (f"\n  switch to {sw['level']} ({sw['lines']} x {sw['layers']} per row) at t={sw['t_s']:.2f} s, "
+                  f"n_g={sw['n_g']}, {sw['rows']} rows")
     if res.violations:
         human += "\nINVARIANT VIOLATIONS:\n  " + "\n  ".join(res.violations[:10])
     if files:
