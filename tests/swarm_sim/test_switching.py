@@ -113,3 +113,10 @@ def test_derived_limits_five_widths_switch_to_the_arch_and_the_rule_count_is_exa
     assert ok.min_robots_rule == 88 and [(s["level"], s["n_g"]) for s in ok.switches] == [("arch-4x2-staggered", 4)]
     fail = run_scenario("large-void", 87, 5, 1, **kw)
     assert fail.retreated and fail.robots_lost == 0 and fail.robots_on_initial_side == 87
+
+
+def test_switch_mode_rejects_a_void_wider_than_the_widest_level_before_the_run(tmp_path):
+    from swarm_sim.errors import InputError
+
+    with pytest.raises(InputError, match="wider than the widest structure"):
+        resolve_params("case-d", 50, 6, line_then_two(tmp_path, 2), structure="switch")
