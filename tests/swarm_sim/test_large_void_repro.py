@@ -19,3 +19,12 @@ def test_thesis_large_void_ten_runs_all_cross(width):
         r = run_scenario("large-void", 70, width, seed, limits="thesis")
         assert r.success and r.robots_lost == 0 and r.robots_delivered == 70, (seed, r.to_dict())
         assert [(s["level"], s["n_g"]) for s in r.switches] == [("two_line", 5)]
+
+
+@pytest.mark.bench
+def test_derived_widest_void_crossed_by_the_rule_minimum_with_three_switches():
+    """Derived record's widest structure (8 widths): 544 robots, line -> 4x2 -> 6x3 -> 8x4 (~1 min)."""
+    r = run_scenario("large-void-8", 544, 8, 1, limits="derived")
+    assert r.success and r.robots_lost == 0 and r.robots_delivered == 544, r.to_dict()
+    assert [(s["level"], s["n_g"]) for s in r.switches] == [
+        ("arch-4x2-staggered", 4), ("arch-6x3-staggered", 6), ("arch-8x4-staggered", 7)]

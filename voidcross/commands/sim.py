@@ -17,6 +17,8 @@ RUN_EPILOG = """examples:
   voidcross sim run --preset case-c --robots 8 --void-width 3 --limits thesis   (retreats: 3w - 1)
   voidcross sim run --preset case-a --robots 8 --void-width 2 --limits thesis --video run.mp4
   voidcross sim run --preset case-d --robots 9 --void-width 3 --snapshots snaps --out results/sim
+  voidcross sim run --preset large-void --robots 70 --void-width 8 --limits thesis   (line -> two lines)
+  voidcross sim run --preset large-void-30 --robots 2880 --void-width 30 --limits thesis   (~8 min)
   voidcross sim run --preset my-arena.toml --robots 20 --void-width 4 --set arena_w_cm=800 --debug
 presets: case-a, case-b, case-c, case-d, large-void (swarm_sim/presets/*.toml) or a TOML path.
 --limits: derived (structure_fem's packaged limits.json, the default), thesis, or a limits.json path.
