@@ -21,7 +21,7 @@ PRESETS = ("case-a", "case-b", "case-c", "case-d")
 
 def draw(rng: np.random.Generator) -> dict:
     """One random scenario: preset, robots, void width, arena size, seed and structure
-    (``auto`` builds the limits' level for the void: two lines or arch rows)."""
+    (``auto`` builds the limits' level for the void; ``switch`` widens it during the build)."""
     preset = str(rng.choice(PRESETS))
     w = int(rng.integers(1, 6))
     big = preset != "case-a"
@@ -30,7 +30,7 @@ def draw(rng: np.random.Generator) -> dict:
     robots = int(rng.integers(1, 3 * w + 4))
     return {"preset": preset, "robots": robots, "void_width": w, "seed": int(rng.integers(0, 2**31 - 1)),
             "arena_w_cm": arena_w, "arena_h_cm": arena_h, "target_x_cm": arena_w - 25.0,
-            "target_y_cm": arena_h / 2, "structure": str(rng.choice(["line", "auto"]))}
+            "target_y_cm": arena_h / 2, "structure": str(rng.choice(["line", "auto", "switch"]))}
 
 
 def soak(runs: int, seed: int = 0, max_time_s: float = 60.0, limits: str = "thesis",
