@@ -10,9 +10,10 @@ arms, clearances and docked gaps.
   (Cube Robot) the faces never touch, the joint hinges on the lowest pin row
   and the lever arm is only the pin spread: the gap, not the material, makes
   the joint soft and loose (thesis Ch. 6.3.1.3, 7.1.3).
-* Stiffness: every load path is an ABS bar of area A and length L
-  (k = E A / L, pins through their groove core, fingers, key stem);
-  rotational stiffness = sum k_i * (lever arm_i)^2 about the hinge.
+* Stiffness: pins and fingers are ABS bars loaded along their axis
+  (k = E A / L through the groove core); the rail lips and the cross-key arms
+  are cantilevers (k = E w t^3 / 4 L^3); rotational stiffness =
+  sum k_i * (lever arm_i)^2 about the hinge.
 """
 
 from __future__ import annotations
@@ -20,6 +21,10 @@ from __future__ import annotations
 import math
 
 from .properties import ConnectorProperties
+
+#: Faces closer than this (mm) are in contact (the docking bisection resolves 1e-4 mm).
+CONTACT_GAP_MM = 0.01
+MIN_LIP_MM = 0.8
 
 
 def front_rear(spec, pin_heights_mm: list[float], gap_mm: float, youngs_modulus_pa: float,
@@ -30,7 +35,7 @@ def front_rear(spec, pin_heights_mm: list[float], gap_mm: float, youngs_modulus_
     head_end = -spec.wall_mm - 3 * spec.plate_mm + spec.head_mm
     groove_start = spec.design_gap_mm + spec.wall_mm + 2 * spec.plate_mm
     k_pin = youngs_modulus_pa * area / ((groove_start - head_end) * 1e-3)
-    if gap_mm <= 1e-6:
+    if gap_mm < CONTACT_GAP_MM:
         hinge = 0.0  # bottom edge of the touching faces = underside
     else:
         hinge = min(pin_heights_mm)  # no face contact: hinges on the lowest pins
@@ -40,29 +45,36 @@ def front_rear(spec, pin_heights_mm: list[float], gap_mm: float, youngs_modulus_
     return ConnectorProperties(
         kind="front_rear", rotational_stiffness_nm_per_rad=k_rot,
         axial_stiffness_n_per_m=k_pin * len(pin_heights_mm),
-        backlash_rad=c / lever, gap_m=gap_mm * 1e-3, height_m=height_mm * 1e-3)
+        backlash_rad=c / lever, gap_m=(gap_mm if gap_mm >= CONTACT_GAP_MM else 0.0) * 1e-3,
+        height_m=height_mm * 1e-3)
+
+
+def cantilever_k(E: float, width_mm: float, thickness_mm: float, length_mm: float) -> float:
+    """Tip stiffness (N/m) of a rectangular ABS cantilever: k = E w t^3 / (4 L^3)."""
+    return E * (width_mm * 1e-3) * (thickness_mm * 1e-3) ** 3 / (4 * (length_mm * 1e-3) ** 3)
 
 
 def side_rail(spec, youngs_modulus_pa: float, height_mm: float) -> ConnectorProperties:
-    """Dovetail rail: two flanks as bars (area length x flank, length tongue root) at +-tip/2."""
-    flank = math.hypot(spec.tongue_mm, (spec.tongue_tip_mm - spec.tongue_root_mm) / 2)
-    k_f = youngs_modulus_pa * (spec.length_mm * flank * 1e-6) / (spec.tongue_root_mm * 1e-3)
+    """Dovetail rail: the female groove's two lips bend as cantilevers (length = groove depth,
+    thickness = the flank overhang, width = rail length), acting at +-tip/2 about the rail axis."""
+    lip = max((spec.tongue_tip_mm - spec.tongue_root_mm) / 2, MIN_LIP_MM)
+    k_lip = cantilever_k(youngs_modulus_pa, spec.length_mm, lip, spec.tongue_mm)
     arm = spec.tongue_tip_mm / 2
     return ConnectorProperties(
-        kind="side_rail", rotational_stiffness_nm_per_rad=2 * k_f * (arm * 1e-3) ** 2,
-        axial_stiffness_n_per_m=2 * k_f, backlash_rad=spec.clearance_mm / arm, gap_m=0.0,
+        kind="side_rail", rotational_stiffness_nm_per_rad=2 * k_lip * (arm * 1e-3) ** 2,
+        axial_stiffness_n_per_m=2 * k_lip, backlash_rad=spec.clearance_mm / arm, gap_m=0.0,
         height_m=height_mm * 1e-3)
 
 
 def top_twist(spec, youngs_modulus_pa: float, height_mm: float, gap_mm: float) -> ConnectorProperties:
-    """Cross key: stem as a bar; head arms bearing under the collar roof at arm_length/2."""
-    area = math.pi * (spec.arm_width_mm / 2) ** 2 * 1e-6
-    length = (spec.key_protrusion_mm - spec.head_mm) * 1e-3
-    k = youngs_modulus_pa * area / length
+    """Cross key: the four head arms bend as cantilevers (stem radius to arm tip) under the
+    collar roof, acting at arm_length/2 about the horizontal axis."""
+    length = spec.arm_length_mm / 2 - spec.arm_width_mm / 2
+    k_arm = cantilever_k(youngs_modulus_pa, spec.arm_width_mm, spec.head_mm, length)
     arm = spec.arm_length_mm / 2
     return ConnectorProperties(
-        kind="top_twist", rotational_stiffness_nm_per_rad=k * (arm * 1e-3) ** 2,
-        axial_stiffness_n_per_m=k, backlash_rad=spec.clearance_mm / arm, gap_m=gap_mm * 1e-3,
+        kind="top_twist", rotational_stiffness_nm_per_rad=2 * k_arm * (arm * 1e-3) ** 2,
+        axial_stiffness_n_per_m=4 * k_arm, backlash_rad=spec.clearance_mm / arm, gap_m=gap_mm * 1e-3,
         height_m=height_mm * 1e-3)
 
 

@@ -194,15 +194,18 @@ def export_robots(robots: Iterable[str], out: str | os.PathLike, formats: Iterab
             _atomic_via(out / rel3, lambda p, s=shape: cq.exporters.export(s, p, tolerance=STL_TOLERANCE_MM,
                                                                            angularTolerance=STL_ANGULAR_RAD))
             extra.append(rel3)
-        bb = shape.BoundingBox()
-        size = sorted([bb.xlen, bb.ylen, bb.zlen])
+        from .shapes import tight_bbox
+
+        b = tight_bbox(shape)
+        dims = [b[3] - b[0], b[4] - b[1], b[5] - b[2]]
+        size = sorted(dims)
         bed = sorted(BED_MM)
         records.append(PartRecord(
             robot=name, part=part.name, description=part.description,
             file=rel if "stl" in formats else "", quantity=qty,
             volume_mm3=round(part.volume_mm3, 4), mesh_volume_mm3=round(float(mesh.volume), 4),
-            bbox_mm=[round(v, 4) for v in (bb.xmin, bb.ymin, bb.zmin, bb.xmax, bb.ymax, bb.zmax)],
-            size_mm=[round(bb.xlen, 4), round(bb.ylen, 4), round(bb.zlen, 4)],
+            bbox_mm=[round(v, 4) for v in b],
+            size_mm=[round(v, 4) for v in dims],
             mass_g=round(part.volume_mm3 * 1e-9 * rho * 1e3, 4),
             watertight=bool(mesh.is_watertight and mesh.is_volume),
             fits_bed=all(s <= b for s, b in zip(size, bed, strict=True)), extra_files=extra))

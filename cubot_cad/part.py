@@ -127,8 +127,9 @@ class Part:
 
     @cached_property
     def bbox_mm(self) -> tuple[float, float, float, float, float, float]:
-        bb = self.solid.BoundingBox()
-        return (bb.xmin, bb.ymin, bb.zmin, bb.xmax, bb.ymax, bb.zmax)
+        from .shapes import tight_bbox
+
+        return tight_bbox(self.solid)
 
     @property
     def size_mm(self) -> tuple[float, float, float]:
@@ -157,8 +158,10 @@ class Part:
         s = self.solid
         for axis, deg in self.print_rotation:
             s = s.rotate(cq.Vector(0, 0, 0), cq.Vector(*axis), deg)
-        bb = s.BoundingBox()
-        return s.translate(cq.Vector(-(bb.xmin + bb.xmax) / 2, -(bb.ymin + bb.ymax) / 2, -bb.zmin))
+        from .shapes import tight_bbox
+
+        x0, y0, z0, x1, y1, _ = tight_bbox(s)
+        return s.translate(cq.Vector(-(x0 + x1) / 2, -(y0 + y1) / 2, -z0))
 
     def params(self) -> dict[str, float]:
         """The part's named dimensions."""

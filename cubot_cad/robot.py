@@ -116,8 +116,9 @@ class Robot:
         import cadquery as cq
 
         shapes = self.shapes() + (self.component_solids() if include_components else [])
-        bb = cq.Compound.makeCompound(shapes).BoundingBox()
-        return (bb.xmin, bb.ymin, bb.zmin, bb.xmax, bb.ymax, bb.zmax)
+        from .shapes import tight_bbox
+
+        return tight_bbox(cq.Compound.makeCompound(shapes))
 
     @cached_property
     def wheel_exposed_mm(self) -> float:
@@ -125,7 +126,9 @@ class Robot:
         wheels = [s for c in self.components() if c.role == "wheel" for s in c.solids()]
         if not wheels:
             return 0.0
-        return -min(s.BoundingBox().zmin for s in wheels)
+        from .shapes import tight_bbox
+
+        return -min(tight_bbox(s)[2] for s in wheels)
 
     @cached_property
     def caster_exposed_mm(self) -> float:
@@ -134,7 +137,9 @@ class Robot:
         seats = [p.shape for p in self.placed if p.role == "caster_seat"]
         if not balls or not seats:
             return 0.0
-        return min(s.BoundingBox().zmin for s in seats) - min(b.BoundingBox().zmin for b in balls)
+        from .shapes import tight_bbox
+
+        return min(tight_bbox(s)[2] for s in seats) - min(tight_bbox(b)[2] for b in balls)
 
     def mass_properties(self, material_name: str = "abs") -> MassProperties:
         rho = material(material_name)["density_kg_m3"]

@@ -80,3 +80,17 @@ def location(xyz: Sequence[float] = (0, 0, 0), rot_z_deg: float = 0.0, rot_x_deg
     if rot_x_deg:
         loc = loc * cq.Location(cq.Vector(0, 0, 0), cq.Vector(1, 0, 0), rot_x_deg)
     return loc
+
+
+def tight_bbox(shape) -> tuple[float, float, float, float, float, float]:
+    """Exact (optimal) bounding box (xmin, ymin, zmin, xmax, ymax, zmax) of an OCC shape, mm.
+
+    cadquery's ``BoundingBox`` is enlarged by tolerances (tenths of a mm on
+    curved faces); measurements such as exposed heights need the true extent.
+    """
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+
+    box_ = Bnd_Box()
+    BRepBndLib.AddOptimal_s(shape.wrapped, box_, False, False)
+    return tuple(box_.Get())

@@ -100,9 +100,12 @@ def do_export(out: Path, robots, formats, material: str, clearance: float, with_
 
 def run_export(args) -> int:
     from cubot_cad.export import parse_formats, parse_robots
+    from cubot_cad.part import check_clearance, material
 
     robots = parse_robots(args.robot)
     formats = parse_formats(args.format)
+    check_clearance(args.clearance_mm, "--clearance-mm")
+    material(args.material)
     payload = do_export(out_dir(args.out), robots, formats, args.material, args.clearance_mm,
                         with_dock=not args.no_dock, packaged_default=args.packaged_default)
     lines = [f"exported {payload['parts']} distinct parts ({payload['printed_items']} printed items) of "
@@ -193,9 +196,11 @@ def run_check(args) -> int:
 def run_render(args) -> int:
     from cubot_cad.docking import dock, pairs_for
     from cubot_cad.export import make_robot, parse_robots
+    from cubot_cad.part import check_clearance
     from cubot_cad.render import render_pair, render_robot
 
     robots = parse_robots(args.robot)
+    check_clearance(args.clearance_mm, "--clearance-mm")
     d = out_dir(args.out)
     targets = [d] + ([Path("docs/img")] if args.docs else [])
     written = []
