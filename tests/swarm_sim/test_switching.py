@@ -104,15 +104,25 @@ def test_construction_times_from_the_event_log():
     assert construction_times(((1.0, "seed", 0, {}),)) == {"assembly": None, "disassembly": None}
 
 
-def test_derived_limits_five_widths_switch_to_the_arch_and_the_rule_count_is_exact():
-    """Derived record: the line spans 4, so at n_g = 4 the line (9 rows) widens to the 4 x 2 arch;
-    5 widths then need 5 + (5 + 1) = 11 rows of 8 = 88 robots: 88 cross, 87 retreat."""
+def test_derived_limits_first_switch_happens_where_the_record_says_and_the_rule_count_is_exact():
+    """Packaged derived record: the first level spans s widths, so on a void of s + 1 widths the
+    structure widens to the next level at n_g = s, and the swarm size the rule demands (read from
+    the resolved parameters, which compute it from the record) crosses while one robot fewer retreats.
+    Nothing here is a hard-coded number: regenerate limits.json and the test follows."""
+    from structure_fem.limits import load_limits
+
+    lim = load_limits("derived")
+    first, second = lim.levels[0], lim.levels[1]
+    w = first.max_span_widths + 1
     kw = dict(limits="derived", arena_w_cm=800.0, arena_h_cm=400.0, target_x_cm=750.0, target_y_cm=200.0)
-    ok = run_scenario("large-void", 88, 5, 1, **kw)
-    assert ok.success and ok.robots_lost == 0 and ok.robots_delivered == 88, ok.to_dict()
-    assert ok.min_robots_rule == 88 and [(s["level"], s["n_g"]) for s in ok.switches] == [("arch-4x2-staggered", 4)]
-    fail = run_scenario("large-void", 87, 5, 1, **kw)
-    assert fail.retreated and fail.robots_lost == 0 and fail.robots_on_initial_side == 87
+    need = resolve_params("large-void", 10, w, **kw).min_robots_rule
+    assert need >= second.lines * second.layers * (w + 1)
+    ok = run_scenario("large-void", need, w, 1, **kw)
+    assert ok.success and ok.robots_lost == 0 and ok.robots_delivered == need, ok.to_dict()
+    assert ok.min_robots_rule == need
+    assert [(s["level"], s["n_g"]) for s in ok.switches] == [(second.name, first.max_span_widths)]
+    fail = run_scenario("large-void", need - 1, w, 1, **kw)
+    assert fail.retreated and fail.robots_lost == 0 and fail.robots_on_initial_side == need - 1
 
 
 def test_switch_mode_rejects_a_void_wider_than_the_widest_level_before_the_run(tmp_path):
