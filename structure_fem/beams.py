@@ -42,11 +42,8 @@ def cantilever_tip(length_m: float, mass_per_length: float, bending_stiffness: f
     from exudyn.itemInterface import (
         LoadMassProportional,
         MarkerBodyMass,
-        MarkerNodeCoordinate,
         NodePoint2DSlope1,
-        NodePointGround,
         ObjectANCFCable2D,
-        ObjectConnectorCoordinate,
     )
 
     for name, v in (("length", length_m), ("mass per length", mass_per_length),
@@ -67,29 +64,8 @@ def cantilever_tip(length_m: float, mass_per_length: float, bending_stiffness: f
                                             axialStiffness=axial_stiffness))
         m = mbs.AddMarker(MarkerBodyMass(bodyNumber=o))
         mbs.AddLoad(LoadMassProportional(markerNumber=m, loadVector=[0.0, -GRAVITY, 0.0]))
-    g = mbs.AddNode(NodePointGround(referenceCoordinates=[0, 0, 0]))
-    mg = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=g, coordinate=0))
-    for coord in (0, 1, 3):  # clamp: x, y and the slope's y component at the root
-        mc = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nodes[0], coordinate=coord))
-        mbs.AddObject(ObjectConnectorCoordinate(markerNumbers=[mg, mc]))
-    mbs.Assemble()
-    ss = exu.SimulationSettings()
-    ss.solution.file.write = False
-    ss.solution.sensors.active = False
-    st = ss.staticSolver
-    st.verboseMode = 0
-    st.numberOfLoadSteps = 4
-    st.newton.adaptInitialResidual = False
-    st.newton.relativeTolerance = 1e-6  # round-off floor ~3e-8 with EA ~ 1e8 N
-    st.newton.absoluteTolerance = 1e-6
-    ss.linearSolver.solverType = exu.LinearSolverType.EXUdense
-    try:
-        ok = mbs.SolveStatic(ss)
-    except Exception as exc:
-        raise SolverFailure(f"beam cantilever L={length_m} m, {elements} elements: {exc}") from exc
-    if ok is False:
-        raise SolverFailure(f"beam cantilever L={length_m} m, {elements} elements did not converge")
-    q = mbs.systemData.GetODE2Coordinates()
+    q = _clamp_root_and_solve(exu, mbs, nodes[0], load_steps=4,
+                              what=f"beam cantilever L={length_m} m, {elements} elements")
     return -float(q[4 * elements + 1])
 
 
@@ -107,11 +83,8 @@ def flexible_line_tip(robot: RobotProperties, joint_nm_per_rad: float, robots_ov
     from exudyn.itemInterface import (
         LoadMassProportional,
         MarkerBodyMass,
-        MarkerNodeCoordinate,
         NodePoint2DSlope1,
-        NodePointGround,
         ObjectANCFCable2D,
-        ObjectConnectorCoordinate,
     )
 
     if not (math.isfinite(joint_nm_per_rad) and joint_nm_per_rad > 0):
@@ -140,10 +113,26 @@ def flexible_line_tip(robot: RobotProperties, joint_nm_per_rad: float, robots_ov
                                             bendingStiffness=eib, axialStiffness=ea))
         m = mbs.AddMarker(MarkerBodyMass(bodyNumber=o))
         mbs.AddLoad(LoadMassProportional(markerNumber=m, loadVector=[0.0, -GRAVITY, 0.0]))
+    q = _clamp_root_and_solve(exu, mbs, nodes[0], load_steps=8,
+                              what=f"flexible line of {robots_over} robots")
+    return -float(q[4 * len(segs) + 1])
+
+
+def _clamp_root_and_solve(exu, mbs, root_node: int, load_steps: int, what: str):
+    """Clamp the root node (x, y and the slope's y component), solve statically, return the
+    ODE2 coordinates (m). Settings per the toolchain notes; relative tolerance 1e-6 sits above
+    the round-off floor (~3e-8 with EA ~ 1e8 N). Non-convergence raises SolverFailure naming
+    ``what``."""
+    from exudyn.itemInterface import (
+        MarkerNodeCoordinate,
+        NodePointGround,
+        ObjectConnectorCoordinate,
+    )
+
     g = mbs.AddNode(NodePointGround(referenceCoordinates=[0, 0, 0]))
     mg = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=g, coordinate=0))
     for coord in (0, 1, 3):
-        mc = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nodes[0], coordinate=coord))
+        mc = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=root_node, coordinate=coord))
         mbs.AddObject(ObjectConnectorCoordinate(markerNumbers=[mg, mc]))
     mbs.Assemble()
     ss = exu.SimulationSettings()
@@ -151,7 +140,7 @@ def flexible_line_tip(robot: RobotProperties, joint_nm_per_rad: float, robots_ov
     ss.solution.sensors.active = False
     st = ss.staticSolver
     st.verboseMode = 0
-    st.numberOfLoadSteps = 8
+    st.numberOfLoadSteps = load_steps
     st.newton.adaptInitialResidual = False
     st.newton.relativeTolerance = 1e-6
     st.newton.absoluteTolerance = 1e-6
@@ -159,8 +148,7 @@ def flexible_line_tip(robot: RobotProperties, joint_nm_per_rad: float, robots_ov
     try:
         ok = mbs.SolveStatic(ss)
     except Exception as exc:
-        raise SolverFailure(f"flexible line of {robots_over} robots: {exc}") from exc
+        raise SolverFailure(f"{what}: {exc}") from exc
     if ok is False:
-        raise SolverFailure(f"flexible line of {robots_over} robots did not converge")
-    q = mbs.systemData.GetODE2Coordinates()
-    return -float(q[4 * len(segs) + 1])
+        raise SolverFailure(f"{what} did not converge")
+    return mbs.systemData.GetODE2Coordinates()
