@@ -52,6 +52,17 @@ class StructureLevel:
     (n_p = 2 n_g before landing, n_p = n_g = n_o once bridged).
     ``min_robots`` lists the minimum swarm size for each void width in
     ``min_span_widths..max_span_widths``.
+
+    ``taper_block_rows`` (arches only): ``None`` means every row has the full
+    ``lines x layers`` section (what `structure_fem` derives and validates).
+    An integer ``B`` makes the thesis's tapering arch (Ch. 5.5.2, Fig.
+    5.2-5.3): a moving core of two lines, and a static foot at each ledge
+    whose half cross-section grows in blocks of ``B`` rows, 1, 2, .., k
+    (k = ``layers``) towards the ledge and shrinks k-1, .., 2 over the void
+    (:func:`taper_half_level`). Then ``lines`` must be ``2 * layers`` and the
+    counting rule counts robots, not rows (the rows differ in size; the
+    thesis: "the number of robots at each initial and target zones is larger
+    than the number of robots over the void").
     """
 
     name: str
@@ -66,6 +77,7 @@ class StructureLevel:
     #: Mechanics at the band's widest void (None in the thesis preset, which had no model).
     max_deflection_mm: float | None = None
     min_tipping_factor: float | None = None
+    taper_block_rows: int | None = None
 
     def __post_init__(self) -> None:
         _req(self.kind in KINDS, f"structure kind {self.kind!r} is not one of {', '.join(KINDS)}")
@@ -86,6 +98,17 @@ class StructureLevel:
         for name in ("max_deflection_mm", "min_tipping_factor"):
             v = getattr(self, name)
             _req(v is None or math.isfinite(v), f"structure {self.name!r}: {name} is not finite ({v})")
+        if self.taper_block_rows is not None:
+            _req(self.kind == "arch", f"structure {self.name!r}: only an arch can taper (kind {self.kind!r})")
+            _req(isinstance(self.taper_block_rows, int) and 1 <= self.taper_block_rows <= 50,
+                 f"structure {self.name!r}: taper_block_rows={self.taper_block_rows!r} outside 1..50")
+            _req(self.lines == 2 * self.layers,
+                 f"structure {self.name!r}: a tapering arch is 2k wide and k high, got "
+                 f"{self.lines} x {self.layers}")
+
+    @property
+    def tapered(self) -> bool:
+        return self.taper_block_rows is not None
 
     def robots_for(self, width: int) -> int:
         _req(self.min_span_widths <= width <= self.max_span_widths,
@@ -179,22 +202,67 @@ class StructureLimits:
 
 # --------------------------------------------------------------------------- thesis preset
 
-#: Robots per row-block "a" in the thesis's arch counts (Ch. 5.5.2): a block of
-#: five rows, one robot per row per half cross-section level.
+# --------------------------------------------------------------------------- tapering arch geometry
+
+def taper_half_level(layers: int, block_rows: int, row: int, void_rows: int, far_foot: bool = True) -> int:
+    """Half-level ``j`` of the tapering arch's row occupying ``[row, row + 1)`` robot
+    lengths past the near edge (negative rows on the initial ground); its cross-section
+    is ``2j`` robots wide and ``j`` high (``2 j^2`` robots; ``j = 1`` is the bare core
+    of two lines).
+
+    On each ground the foot has blocks of ``block_rows`` rows with ``j = k, k-1, .., 1``
+    going away from the edge (k = ``layers``; the core goes on behind it with ``j = 1``);
+    over the void the section shrinks ``k-1, .., 2`` from each ledge and the middle is
+    the bare core. ``far_foot=False``: before the far foot is built (the structure has
+    not landed) the far half is bare core. Thesis Ch. 5.5.2 (c)-(f): e.g. k = 3, 5-row
+    blocks, 15 widths: initial / over / target = 28a / 18a / 28a (a = 5 robots).
+    """
+    k, b = layers, block_rows
+    if row < 0:                      # initial ground
+        return max(1, k - (-row - 1) // b)
+    if row >= void_rows:             # target ground
+        return max(1, k - (row - void_rows) // b) if far_foot else 1
+    d_near = row
+    d_far = void_rows - 1 - row
+    j = max(1, k - 1 - d_near // b)
+    if far_foot:
+        j = max(j, k - 1 - d_far // b)
+    return j
+
+
+def tapered_arch_robots(layers: int, block_rows: int, void_rows: int, far_foot: bool = True) -> dict[str, int]:
+    """Robots of the complete tapering arch over ``void_rows``: ``{"initial", "over", "target", "total"}``.
+
+    Each ground holds the ``layers`` foot blocks (the last one the bare core); with
+    ``far_foot=False`` the target side holds nothing yet (the structure before landing).
+    """
+    ground = layers * block_rows
+    sec = lambda r: 2 * taper_half_level(layers, block_rows, r, void_rows, far_foot) ** 2  # noqa: E731
+    initial = sum(sec(r) for r in range(-ground, 0))
+    over = sum(sec(r) for r in range(void_rows))
+    target = sum(sec(r) for r in range(void_rows, void_rows + ground)) if far_foot else 0
+    return {"initial": initial, "over": over, "target": target, "total": initial + over + target}
+
+
+#: Rows per block "a" of the thesis's arch counts (Ch. 5.5.2): a block of five rows,
+#: one robot per row per half cross-section level.
 THESIS_ROWS_PER_BLOCK = 5
-#: (name, widest span, layers, total robots in "a" units = initial + over + target) of the
-#: thesis's arch levels, Ch. 5.5.2 (c)-(f).
+#: (name, widest span, layers) of the thesis's arch levels, Ch. 5.5.2 (c)-(f). Their counts
+#: come from :func:`tapered_arch_robots` (a test checks them against the thesis's 28a/18a/28a,
+#: 28a/20a/28a, 60a/54a/60a and 60a/56a/60a).
 THESIS_ARCHES = (
-    ("arch-15", 15, 3, 28 + 18 + 28),
-    ("arch-20", 20, 3, 28 + 20 + 28),
-    ("arch-25", 25, 4, 60 + 54 + 60),
-    ("arch-30", 30, 4, 60 + 56 + 60),
+    ("arch-15", 15, 3),
+    ("arch-20", 20, 3),
+    ("arch-25", 25, 4),
+    ("arch-30", 30, 4),
 )
 
 
 def thesis_limits(robot: str = "cubot") -> StructureLimits:
     """The thesis's own limits: line to 5 widths (N = 3 n_g), two lines to 10
-    (N = 2 x 3 n_g), arches to 15/20/25/30 with the Ch. 5.5.2 counts, clearance 15 mm.
+    (N = 2 x 3 n_g), tapering arches to 15/20/25/30 with the Ch. 5.5.2 counts
+    (complete arch, both feet; robots on each ground > robots over the void,
+    i.e. ratio 1 and margin 1 counted in robots), clearance 15 mm.
 
     Case A's stricter rule (n_p, n_o >= n_g + 1, N = 3 n_g + 2) is a scenario
     margin applied by the simulator on top of these.
@@ -204,10 +272,11 @@ def thesis_limits(robot: str = "cubot") -> StructureLimits:
         StructureLevel("two_line", "two_line", 2, 1, 6, 10, 2.0, 0, tuple(6 * w for w in range(6, 11))),
     ]
     lo = 11
-    for name, hi, layers, a_units in THESIS_ARCHES:
-        n = a_units * THESIS_ROWS_PER_BLOCK
-        levels.append(StructureLevel(name, "arch", MAX_ARCH_WIDE, layers, lo, hi, 2.0, 0,
-                                     tuple(n for _ in range(lo, hi + 1))))
+    b = THESIS_ROWS_PER_BLOCK
+    for name, hi, layers in THESIS_ARCHES:
+        counts = tuple(tapered_arch_robots(layers, b, w)["total"] for w in range(lo, hi + 1))
+        levels.append(StructureLevel(name, "arch", 2 * layers, layers, lo, hi, 1.0, 1, counts,
+                                     taper_block_rows=b))
         lo = hi + 1
     return StructureLimits(
         source="thesis", robot=robot, clearance_mm=15.0, levels=tuple(levels),

@@ -8,7 +8,15 @@ import json
 import pytest
 
 from structure_fem.errors import InputError
-from structure_fem.limits import SCHEMA_VERSION, StructureLimits, load_limits, thesis_limits
+from structure_fem.limits import (
+    SCHEMA_VERSION,
+    THESIS_ROWS_PER_BLOCK,
+    StructureLimits,
+    load_limits,
+    taper_half_level,
+    tapered_arch_robots,
+    thesis_limits,
+)
 
 
 def test_thesis_preset_reproduces_the_thesis_rules():
@@ -20,6 +28,36 @@ def test_thesis_preset_reproduces_the_thesis_rules():
     assert lim.min_robots(15) == (28 + 18 + 28) * 5  # 28a / 18a / 28a, a = 5 rows
     assert lim.level_for(12).layers == 3 and lim.level_for(27).layers == 4
     assert lim.level_for(3).ground_ratio == 2.0  # n_p = 2 n_g before landing
+    assert lim.level_for(12).tapered and not lim.level_for(8).tapered
+    assert (lim.level_for(12).ground_ratio, lim.level_for(12).ground_margin) == (1.0, 1)  # robots: ground > void
+
+
+@pytest.mark.parametrize(("layers", "width", "a_units"), [
+    (3, 15, (28, 18, 28)), (3, 20, (28, 20, 28)), (4, 25, (60, 54, 60)), (4, 30, (60, 56, 60))])
+def test_tapering_arch_counts_are_the_thesis_ones(layers, width, a_units):
+    """Ch. 5.5.2 (c)-(f): initial / over the void / target in units a = 5 robots."""
+    c = tapered_arch_robots(layers, THESIS_ROWS_PER_BLOCK, width)
+    assert (c["initial"], c["over"], c["target"]) == tuple(5 * a for a in a_units)
+    assert thesis_limits().min_robots(width) == c["total"]
+
+
+def test_tapering_arch_before_landing_and_its_section_profile():
+    # Ch. 5.5.2 (c): before landing 28a on the initial ground, 12a over a 15-wide void
+    before = tapered_arch_robots(3, 5, 15, far_foot=False)
+    assert (before["initial"], before["over"], before["target"]) == (140, 60, 0)
+    # half-levels along the rows: foot 1,2,3 to the near edge, 2 then core over the void, mirrored
+    prof = [taper_half_level(3, 5, r, 15) for r in range(-15, 30, 5)]
+    assert prof == [1, 2, 3, 2, 1, 2, 3, 2, 1]
+    # the geometry follows its inputs: 2-row blocks shorten the feet
+    assert tapered_arch_robots(3, 2, 15)["total"] < tapered_arch_robots(3, 5, 15)["total"]
+
+
+def test_only_a_2k_by_k_arch_can_taper():
+    lvl = thesis_limits().level_for(12)
+    with pytest.raises(InputError, match="2k wide and k high"):
+        dataclasses.replace(lvl, lines=8)
+    with pytest.raises(InputError, match="only an arch can taper"):
+        dataclasses.replace(thesis_limits().level_for(8), taper_block_rows=5)
 
 
 def test_round_trip(tmp_path):
