@@ -217,3 +217,27 @@ def test_report_loads_in_headless_chromium_with_no_missing_image(report):
     m = re.search(r"<title>IMAGES:(\d+):BROKEN:(\d+):([^<]*)</title>", res.stdout)
     assert m, res.stderr[-2000:]
     assert int(m.group(1)) >= 20 and m.group(2) == "0", m.group(3)
+
+
+def test_what_a_swarm_can_cross_is_computed_from_the_record_and_moves_with_it(report):
+    """Issue 6: the report states what 70 robots can cross under each record, and why not wider."""
+    import dataclasses
+
+    from structure_fem.limits import load_limits
+    from voidcross.report.build import swarm_reach
+
+    derived = load_limits("derived")
+    r70 = swarm_reach(derived, 70)
+    assert r70["widest"] >= 1 and r70["next_needs"] > 70
+    assert swarm_reach(derived, r70["next_needs"])["widest"] > r70["widest"]  # more robots, wider void
+    # a softer record (the line spans one width less) lowers what the same swarm crosses
+    line = derived.levels[0]
+    shorter = dataclasses.replace(line, max_span_widths=line.max_span_widths - 1, min_robots=line.min_robots[:-1])
+    nxt = derived.levels[1]
+    nxt = dataclasses.replace(nxt, min_span_widths=nxt.min_span_widths - 1,
+                              min_robots=(nxt.min_robots[0],) + nxt.min_robots)
+    softer = dataclasses.replace(derived, levels=(shorter, nxt) + derived.levels[2:])
+    assert swarm_reach(softer, 70)["widest"] < r70["widest"]
+    out, _ = report
+    text = "".join(p.read_text() for p in out.glob("*.md"))
+    assert "What a swarm of 70 robots can cross" in text

@@ -190,8 +190,52 @@ def _thesis_tables_section(rs: RunSet) -> Section:
     return sec
 
 
-def _large_void_section(rs: RunSet, fig_dir: Path, rel: str) -> Section:
+def swarm_reach(lim, robots: int, preset: str = "large-void") -> dict:
+    """What a swarm of ``robots`` can cross under the limits ``lim`` with the switching structure.
+
+    Computed from the record and the simulator's rule (rows widened at each switch), never
+    looked up: ``{"widest": w or 0, "next": w + 1 or None, "next_structure", "next_needs"}``.
+    """
+    from dataclasses import replace
+
+    from swarm_sim.params import load_preset, with_limits
+
+    base = load_preset(preset)
+    need = {}
+    for w in range(1, lim.max_span_widths + 1):
+        p = with_limits(replace(base, void_width=w, structure="switch"), lim)
+        need[w] = max(p.min_robots_rule, 2)
+    widest = 0
+    for w in range(1, lim.max_span_widths + 1):
+        if need[w] > robots:
+            break
+        widest = w
+    nxt = widest + 1 if widest < lim.max_span_widths else None
+    return {"robots": robots, "widest": widest, "next": nxt,
+            "next_structure": lim.level_for(nxt).name if nxt else None,
+            "next_needs": need[nxt] if nxt else None,
+            "widest_structure": lim.level_for(widest).name if widest else None,
+            "max_span": lim.max_span_widths}
+
+
+def _reach_table(limits: dict, robots: int) -> Table:
+    rows = []
+    for label, lim in limits.items():
+        r = swarm_reach(lim, robots)
+        why = (f"{r['next']} widths need the {r['next_structure']} and {r['next_needs']} robots"
+               if r["next"] else f"{r['max_span']} widths is the widest structure in these limits")
+        rows.append([label, str(r["widest"]), r["widest_structure"] or "–", why])
+    return Table(["limits", "widest void crossed (robot widths)", "structure there", "why not wider"], rows,
+                 f"What a swarm of {robots} robots can cross (switching structure; computed from each record "
+                 "and the simulator's counting rule)")
+
+
+def _large_void_section(rs: RunSet, fig_dir: Path, rel: str, limits: dict | None = None) -> Section:
     sec = Section("Large voids (Fig. 5.9-5.13 equivalents)")
+    if limits:
+        sizes = sorted({r.robots for p in rs.presets() if p.startswith("large") for r in rs.of(p)}) or [70]
+        for n in sizes[:4]:
+            sec.add(_reach_table(limits, n))
     large = [p for p in rs.presets() if p.startswith("large")]
     if not large:
         sec.add(Note("no large-void runs in this database (`voidcross sweep --preset large-void --robots 70 "
@@ -295,7 +339,7 @@ def build_report(db, out, fem_dir=None, cad_dir=None, limits=None) -> dict:
         sections.append(Section("Small voids (cases A-D)").add(Note("no small-void runs in this database.")))
     sections += [_preset_section(p, rs, lims, fig_dir, rel) for p in small]
     sections.append(_thesis_tables_section(rs))
-    sections.append(_large_void_section(rs, fig_dir, rel))
+    sections.append(_large_void_section(rs, fig_dir, rel, lims))
     sections.append(_copy_assets(fem_dir, out, "fem", "structure_fem output",
                                  "Structure selection and deflection (structure_fem)"))
     sections.append(_copy_assets(cad_dir, out, "cad", "CAD render", "Robot and connector renders (cubot_cad)"))
