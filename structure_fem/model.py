@@ -310,7 +310,7 @@ def _result(config: Config, lay: Layout, q: np.ndarray, robot: RobotProperties, 
         reac.append(-kc * b.count * (dz if config.clamped else 0.5 * (dz - math.sqrt(dz * dz + e * e))))
     tf = tipping_factor(lay.bodies, com[:, 0]) if config.phase == "cantilever" else math.inf
     result = StaticResult(config, lay, com, phi, under, tip, float(drop.max()), jr, np.array(reac), tf,
-                          config.structure.robots(config.rows))
+                          sum(b.count for b in lay.bodies))
     if not (math.isfinite(result.tip_deflection_m) and np.all(np.isfinite(under))):
         raise InputError(f"non-finite result for {config.describe(robot.name)}")
     return result

@@ -32,7 +32,7 @@ from cubot_cad.properties import RobotProperties
 
 from .connectors import ConnectorSet, Joint
 from .errors import InputError
-from .limits import KINDS, MAX_ARCH_HIGH, MAX_ARCH_WIDE
+from .limits import KINDS, MAX_ARCH_HIGH, MAX_ARCH_WIDE, taper_half_level, tapered_arch_robots
 
 ARRANGEMENTS = ("aligned", "staggered")
 PHASES = ("cantilever", "bridged")
@@ -41,12 +41,19 @@ GRAVITY = 9.81
 
 @dataclass(frozen=True)
 class Structure:
-    """``lines`` side by side (1..8) x ``layers`` high (1..4); ``arrangement`` of the line joints."""
+    """``lines`` side by side (1..8) x ``layers`` high (1..4); ``arrangement`` of the line joints.
+
+    ``taper_block_rows`` (arches only, ``None`` = uniform): the thesis's tapering arch
+    (Ch. 5.5.2), ``lines = 2 * layers`` at its thickest; row ``i``'s section is ``2j`` wide
+    and ``j`` high with ``j = taper_half_level(layers, taper_block_rows, i, ...)``
+    (see :func:`tapered_layout`). Its lines are aligned (each layer of a row is one body).
+    """
 
     kind: str
     lines: int = 1
     layers: int = 1
     arrangement: str = "aligned"
+    taper_block_rows: int | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -63,9 +70,38 @@ class Structure:
             raise InputError(f"a two_line structure is 2 x 1, got {self.lines} x {self.layers}")
         if self.kind == "arch" and self.layers < 2:
             raise InputError(f"an arch has at least 2 layers, got {self.layers}")
+        b = self.taper_block_rows
+        if b is not None:
+            if self.kind != "arch":
+                raise InputError(f"only an arch can taper: structure kind {self.kind!r} with taper_block_rows={b!r}")
+            if not (isinstance(b, int) and not isinstance(b, bool) and 1 <= b <= 50):
+                raise InputError(f"taper_block_rows={b!r} outside 1..50 (rows per block of the tapering feet)")
+            if self.lines != 2 * self.layers:
+                raise InputError(f"a tapering arch is 2k wide and k high, got {self.lines} x {self.layers}")
+            if self.arrangement != "aligned":
+                raise InputError(f"a tapering arch's lines are aligned, got arrangement {self.arrangement!r}")
+
+    @property
+    def tapered(self) -> bool:
+        return self.taper_block_rows is not None
+
+    @property
+    def foot_rows(self) -> int:
+        """Rows of one tapering foot on its ground (``layers`` blocks; the last one bare core)."""
+        if not self.tapered:
+            raise InputError(f"structure {self.name} does not taper: it has no feet")
+        return self.layers * self.taper_block_rows
+
+    def tapered_robots(self, void_rows: int, far_foot: bool = True) -> dict[str, int]:
+        """The thesis's count of the tapering arch over ``void_rows`` (see `limits.tapered_arch_robots`)."""
+        if not self.tapered:
+            raise InputError(f"structure {self.name} does not taper")
+        return tapered_arch_robots(self.layers, self.taper_block_rows, void_rows, far_foot)
 
     @property
     def name(self) -> str:
+        if self.tapered:
+            return f"tapered-arch-{self.lines}x{self.layers}-b{self.taper_block_rows}"
         if self.kind == "line":
             return "line"
         tag = "" if self.lines == 1 else f"-{self.arrangement}"
@@ -82,6 +118,8 @@ class Structure:
 
     def robots(self, rows: int) -> int:
         """Robots in a structure ``rows`` long (offset lines have one robot fewer per line)."""
+        if self.tapered:
+            raise InputError(f"{self.name}: a tapering arch's count depends on the void, see tapered_robots")
         n0, n1 = self.parity_counts
         return self.layers * (rows * n0 + max(rows - 1, 0) * n1)
 
@@ -154,7 +192,11 @@ def layout(structure: Structure, robot: RobotProperties, conn: ConnectorSet, row
     ``"bridged"``: bodies whose centre is beyond the far edge rest on it too.
     Supports sit under the two bottom corners of every body whose centre is
     over a ledge, at the corners that are over that ledge.
+
+    A tapering structure (``structure.tapered``) is placed by :func:`tapered_layout`.
     """
+    if structure.tapered:
+        return tapered_layout(structure, robot, conn, rows, rows_over, void_widths, phase)
     if not (isinstance(rows, int) and rows >= 1):
         raise InputError(f"rows must be an integer >= 1, got {rows!r}")
     if not (math.isfinite(void_widths) and void_widths > 0):
@@ -206,6 +248,17 @@ def layout(structure: Structure, robot: RobotProperties, conn: ConnectorSet, row
                 xo = 0.5 * (bodies[a].x_m + bodies[c].x_m)
                 couplings.append(Coupling(c, a, (xo, k * H + rail.height_m), rail, pairs, "side_rail"))
 
+    supports = _ledge_supports(bodies, L, void, phase)
+    if not any(s.ledge == "near" for s in supports):
+        raise InputError(f"{structure.name}: no row of the {rows}-row structure rests on the near ledge "
+                         f"with {rows_over} rows over the void")
+    front = index[(0, 0, 0)]
+    rear = index[(0, 0, rows - 1)]
+    return Layout(tuple(bodies), tuple(couplings), tuple(supports), front, rear, L, pitch, void)
+
+
+def _ledge_supports(bodies: list[Body], L: float, void: float, phase: str) -> list[Support]:
+    """Supports under the bottom corners (over a ledge) of layer-0 bodies whose centre is over it."""
     supports: list[Support] = []
     tol = 1e-9
     for i, bd in enumerate(bodies):
@@ -220,12 +273,91 @@ def layout(structure: Structure, robot: RobotProperties, conn: ConnectorSet, row
             for cx in corners:
                 if cx >= void - tol:
                     supports.append(Support(i, (cx, 0.0), "far"))
-    if not any(s.ledge == "near" for s in supports):
-        raise InputError(f"{structure.name}: no row of the {rows}-row structure rests on the near ledge "
-                         f"with {rows_over} rows over the void")
-    front = index[(0, 0, 0)]
-    rear = index[(0, 0, rows - 1)]
-    return Layout(tuple(bodies), tuple(couplings), tuple(supports), front, rear, L, pitch, void)
+    return supports
+
+
+def _whole(name: str, v: float) -> int:
+    if not (isinstance(v, (int, float)) and math.isfinite(v) and float(v).is_integer()):
+        raise InputError(f"a tapering arch needs a whole number of rows for {name}, got {v!r}")
+    return int(v)
+
+
+def tapered_layout(structure: Structure, robot: RobotProperties, conn: ConnectorSet, rows: int,
+                   rows_over: float, void_widths: float, phase: str = "cantilever") -> Layout:
+    """Planar layout of the thesis's tapering arch (Ch. 5.5.2): ``rows`` rows of the core, its
+    front ``rows_over`` pitches past the near edge of a ``void_widths``-wide void (whole rows).
+
+    Row ``i`` occupies ``[i, i + 1)`` pitches past the near edge (negative: initial ground);
+    its half-level ``j = taper_half_level(k, B, i, w, far_foot=phase == "bridged")`` makes a
+    section ``2j`` robots wide and ``j`` high (``j = 1``: the bare two-line core; behind the
+    near foot the core is bare). Each (row, layer) is one planar body merging its ``2j``
+    aligned robots (the mid-plane symmetry of the module docstring); front-rear couplings
+    join consecutive rows of a layer, ``min(2 j_i, 2 j_{i+1})`` of them (robots with a
+    neighbour in both rows); top twist-locks join a layer to the one above, one per robot of
+    the upper layer; ledge supports as in :func:`layout`.
+
+    ``"cantilever"`` (before landing): near foot only, the core front at ``g = rows_over <= w``
+    and at least ``k B`` rows on the initial ground (the thesis keeps exactly ``k B``: its
+    "28a" for k = 3). ``"bridged"``: both feet, the core front past the far foot
+    (``rows_over >= w + k B``). Shell rows of a foot beyond the core front are not placed.
+    """
+    if phase not in PHASES:
+        raise InputError(f"phase {phase!r} is not one of {', '.join(PHASES)}")
+    if not (isinstance(rows, int) and rows >= 1):
+        raise InputError(f"rows must be an integer >= 1, got {rows!r}")
+    w = _whole("the void width", void_widths)
+    g = _whole("rows over the void", rows_over)
+    if w < 1:
+        raise InputError(f"void width must be > 0 robot widths, got {void_widths!r}")
+    structure.check_connectors(conn, robot.name)
+    k, b = structure.layers, structure.taper_block_rows
+    foot = structure.foot_rows
+    if rows - g < foot:
+        raise InputError(f"{structure.name}: the core must keep at least {foot} rows (k x B) on the initial "
+                         f"ground, got {rows - g} ({rows} rows, {g} over the void)")
+    if phase == "cantilever" and not 1 <= g <= w:
+        raise InputError(f"{structure.name} before landing: core front {g} rows past the near edge is outside "
+                         f"1..{w} (the void width)")
+    if phase == "bridged" and g < w + foot:
+        raise InputError(f"{structure.name} bridged: the core front must be past the far foot, "
+                         f"rows_over >= {w + foot}, got {g}")
+    fr = conn.front_rear
+    L, H = robot.length_m, robot.height_m
+    pitch = L + fr.gap_m
+    void = w * pitch
+    iyy = robot.inertia_kg_m2[1]
+    com_local = (robot.com_m[0], robot.com_m[2])
+    far = phase == "bridged"
+
+    bodies: list[Body] = []
+    index: dict[tuple[int, int], int] = {}  # (layer, row i) -> body
+    half: dict[int, int] = {}
+    for i in range(g - rows, g):
+        j = taper_half_level(k, b, i, w, far_foot=far)
+        half[i] = j
+        xc = (i + 1) * pitch - L / 2
+        for layer in range(j):
+            index[(layer, i)] = len(bodies)
+            n = 2 * j
+            bodies.append(Body(layer, 0, g - 1 - i, n, xc, layer * H, n * robot.mass_kg, n * iyy, com_local))
+
+    couplings: list[Coupling] = []
+    for (layer, i), a in index.items():
+        behind = index.get((layer, i - 1))
+        if behind is not None:
+            xj = bodies[a].x_m - L / 2 - fr.gap_m / 2
+            n = 2 * min(half[i], half[i - 1])
+            couplings.append(Coupling(behind, a, (xj, layer * H + fr.height_m), fr, n, "front_rear"))
+        up = index.get((layer + 1, i))
+        if up is not None:
+            couplings.append(Coupling(a, up, (bodies[a].x_m, (layer + 1) * H), conn.top_twist, 2 * half[i],
+                                      "top_twist"))
+
+    supports = _ledge_supports(bodies, L, void, phase)
+    if not any(s.ledge == "near" for s in supports):  # pragma: no cover - rows - g >= k B >= 1 rests
+        raise InputError(f"{structure.name}: no row rests on the near ledge")
+    return Layout(tuple(bodies), tuple(couplings), tuple(supports), index[(0, g - 1)], index[(0, g - rows)],
+                  L, pitch, void)
 
 
 def tipping_factor(bodies: tuple[Body, ...], com_x: np.ndarray, edge_x: float = 0.0) -> float:
