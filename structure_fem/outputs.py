@@ -17,7 +17,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 from .limits import StructureLimits, thesis_limits
-from .study import Derivation, TableRow
+from .study import Derivation, TableRow, TaperRow, tapered_verdict
 
 COLUMNS = (
     ("width", "w"), ("band", "band"), ("structure", "structure"), ("lines", "lines"), ("layers", "layers"),
@@ -81,7 +81,58 @@ def thresholds_md(d: Derivation, limits: StructureLimits) -> str:
     return "\n".join(lines)
 
 
-def table_markdown(rows: list[TableRow], d: Derivation, limits: StructureLimits, calibration: dict | None) -> str:
+TAPER_COLUMNS = (
+    ("level", "thesis level"), ("width", "w"), ("robots", "N complete"), ("robots_before_landing", "N before landing"),
+    ("tip_mm", "tip at g = w mm"), ("tipping_factor", "tipping at g = w"), ("bridged_max_mm", "bridged max mm"),
+    ("margin_mm", "margin mm"), ("passes", "holds"), ("uniform_structure", "derived structure at w"),
+    ("uniform_robots", "its N"), ("uniform_tip_mm", "its tip mm"), ("same_section_robots", "uniform 2k x k N"),
+    ("same_section_tip_mm", "uniform 2k x k tip mm"),
+)
+
+
+def tapered_markdown(rows: list[TaperRow], d: Derivation, plot: str | None = None) -> str:
+    """The section "The thesis's tapering arches under our mechanics" (verdict, table, plot link)."""
+    if not rows:
+        return ""
+    clear = d.inputs.clearance_m * 1e3
+    v = tapered_verdict(rows, clear)
+    per = []
+    for name, e in v["levels"].items():
+        lo, hi = e["widths"]
+        tip = ("-" if e["min_tip_mm"] is None
+               else f"tip {e['min_tip_mm']:.1f}..{e['max_tip_mm']:.1f} mm")
+        br = "-" if e["max_bridged_mm"] is None else f"{e['max_bridged_mm']:.1f} mm"
+        ok = ", ".join(map(str, e["passing_widths"])) or "none"
+        per.append(f"{name} ({rows[[r.level for r in rows].index(name)].structure}, widths {lo}-{hi}): {tip}, "
+                   f"bridged at most {br}, widths within the clearance: {ok}")
+    verdict = ("hold at every width of their bands" if v["all_hold"] else
+               f"hold at {len(v['widths_passing'])} of {v['widths_evaluated']} band widths"
+               + (f" ({', '.join(map(str, v['widths_passing']))})" if v["widths_passing"] else ""))
+    head = "| " + " | ".join(h for _, h in TAPER_COLUMNS) + " |"
+    sep = "|" + "---|" * len(TAPER_COLUMNS)
+    body = []
+    for r in rows:
+        dd = asdict(r)
+        cells = [("yes" if dd[k] else "no") if k == "passes" else _cell(dd[k], md=True) for k, _ in TAPER_COLUMNS]
+        body.append("| " + " | ".join(cells) + " |")
+    notes = [f"{r.level} w = {r.width}: {r.note}" for r in rows if r.note]
+    img = f"\n![tip deflection vs void width: thesis tapering arches vs derived uniform arches]({plot})\n" if plot else ""
+    return (
+        "## The thesis's tapering arches under our mechanics\n\n"
+        "The thesis's own arches (Ch. 5.5.2, the `thesis` preset: a two-line core sliding through static "
+        "feet whose section grows in blocks of 5 rows to 2k x k at each ledge and shrinks over the void) built "
+        f"with this robot record and its connectors. Before landing: the near foot and the core, k x 5 core rows "
+        f"on the initial ground (the thesis's count), core front at the far edge (g = w). Bridged: the complete "
+        f"arch on both feet. Holds = stands (tipping > {d.inputs.required_tipping:g}) and tip <= the "
+        f"{clear:g} mm clearance, the test the derived levels pass. Beside it, the derived band's structure at "
+        f"the same width and the uniform 2k x k staggered arch, where the derivation solved them.\n\n"
+        f"**Verdict: under our mechanics the thesis's tapering arches {verdict}.** "
+        + "; ".join(per) + ".\n" + img + "\n" + head + "\n" + sep + "\n" + "\n".join(body) + "\n"
+        + ("\nNotes: " + "; ".join(notes) + ".\n" if notes else ""))
+
+
+def table_markdown(rows: list[TableRow], d: Derivation, limits: StructureLimits, calibration: dict | None,
+                   tapered: str = "") -> str:
     inp = d.inputs
     head = "| " + " | ".join(h for _, h in COLUMNS) + " |"
     sep = "|" + "---|" * len(COLUMNS)
@@ -105,11 +156,11 @@ def table_markdown(rows: list[TableRow], d: Derivation, limits: StructureLimits,
         f"of this structure built with 3 n_g rows (n_p = 2 n_g), \"case A\" with 3 n_g + 2 rows.\n\n"
         f"## Thresholds\n\n{thresholds_md(d, limits)}\n{cal}\n"
         f"## Table\n\n{head}\n{sep}\n" + "\n".join(body) + "\n\n"
-        f"Notes: {limits.notes}\n")
+        f"Notes: {limits.notes}\n" + (f"\n{tapered}" if tapered else ""))
 
 
 def summary(d: Derivation, limits: StructureLimits, calibration: dict, files: dict[str, str],
-            rows: list[TableRow] | None = None) -> dict:
+            rows: list[TableRow] | None = None, tapered: list[TaperRow] | None = None) -> dict:
     th = d.thresholds()
     out = {
         "thresholds": {k: th[k] for k in ("line", "two_line", "arch", "arch_levels")},
@@ -124,6 +175,9 @@ def summary(d: Derivation, limits: StructureLimits, calibration: dict, files: di
         "calibration": calibration,
         "files": files,
     }
+    if tapered is not None:
+        out["thesis_tapering_arches"] = {"verdict": tapered_verdict(tapered, d.inputs.clearance_m * 1e3),
+                                         "rows": [asdict(r) for r in tapered]}
     if rows is not None:
         out["table"] = [{k: v for k, v in asdict(r).items()} for r in rows]
     return out

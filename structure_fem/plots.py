@@ -12,7 +12,7 @@ import numpy as np
 
 from .limits import thesis_limits
 from .model import StaticResult
-from .study import Derivation
+from .study import Derivation, TaperRow
 
 
 def _plt():
@@ -46,6 +46,39 @@ def deflection_plot(d: Derivation, path: str | Path) -> Path:
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     path = Path(path)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def tapered_plot(d: Derivation, rows: list[TaperRow], path: str | Path) -> Path:
+    """Tip deflection vs void width: the thesis's tapering arches (core front at the far edge, near
+    foot only; bridged dashed) beside the derived uniform 2k x k arches, with the clearance."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8, 5))
+    clear = d.inputs.clearance_m * 1e3
+    for level in dict.fromkeys(r.level for r in rows):
+        sub = [r for r in rows if r.level == level]
+        xs = [r.width for r in sub if r.tip_mm is not None]
+        (ln,) = ax.plot(xs, [r.tip_mm for r in sub if r.tip_mm is not None], marker="s", ms=4,
+                        label=f"thesis {level}: {sub[0].structure} before landing")
+        xb = [r.width for r in sub if r.bridged_max_mm is not None]
+        ax.plot(xb, [r.bridged_max_mm for r in sub if r.bridged_max_mm is not None], ls="--", lw=1,
+                color=ln.get_color(), label=f"thesis {level}: bridged (both feet)")
+    arches = [c for c in d.curves if c.structure.kind == "arch" and c.structure.lines >= 2 * c.structure.layers]
+    for c, (grey, mk) in zip(arches, (("0.6", "o"), ("0.4", "^"), ("0.15", "v"), ("0.3", "d")), strict=False):
+        ax.plot(c.widths, c.tip_mm, marker=mk, ms=4, color=grey, lw=1,
+                label=f"derived uniform {c.structure.name} (threshold {c.threshold})")
+    ax.axhline(clear, color="k", ls=":", lw=1.2, label=f"clearance {clear:g} mm")
+    ax.set_yscale("log")
+    ax.set_xlabel("void width (robot widths)")
+    ax.set_ylabel("tip deflection, core front at the far edge (mm)")
+    ax.set_title(f"{d.inputs.robot.name}: the thesis's tapering arches under our mechanics", fontsize=10)
+    ax.legend(fontsize=7)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path

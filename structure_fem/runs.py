@@ -20,8 +20,8 @@ from .calibration import Calibration, calibrate, calibrated_connectors
 from .errors import InputError
 from .limits import StructureLimits
 from .model import Config, solve
-from .outputs import summary, table_csv, table_markdown, write_text_atomic
-from .study import Derivation, StudyInputs, derive, limits_from, table
+from .outputs import summary, table_csv, table_markdown, tapered_markdown, write_text_atomic
+from .study import Derivation, StudyInputs, derive, limits_from, table, tapered_arches
 
 CONNECTOR_SOURCES = ("properties", "calibrated")
 Progress = Callable[[Iterable, str, int], Iterable]
@@ -96,27 +96,48 @@ def _alt_thresholds(inp: StudyInputs, info: dict, opts: RunOptions) -> None:
 
 def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | Path | None = None,
               progress: Progress | None = None, alternative: bool = True, plots: bool = True) -> dict:
-    """Derive, write selection_table.{md,csv}, limits.json (+ plots); return the JSON summary."""
+    """Derive, write selection_table.{md,csv}, limits.json (+ plots); return the JSON summary.
+
+    The table also evaluates the thesis's tapering arches under our mechanics
+    (:func:`structure_fem.study.tapered_arches`; the derived limits do not depend on it) and,
+    with ``plots``, draws them beside the derived uniform arches (``thesis_tapering_arches.png``,
+    copied to ``docs_dir/img/`` with ``docs_dir``).
+    """
     out = Path(out)
     inp, info = make_inputs(opts)  # bad input fails here, before anything is created
     d = derive(inp, progress, narrow=True)
     limits = limits_from(d)
     rows = table(d, progress)
+    tapered = tapered_arches(d, progress=progress)
     if alternative:
         _alt_thresholds(inp, info, opts)
     info["body_bending"] = body_bending(d)
-    md = table_markdown(rows, d, limits, info)
     out.mkdir(parents=True, exist_ok=True)
-    files = {
+    files: dict[str, str] = {}
+    if plots:
+        from .plots import tapered_plot
+
+        files["tapered_plot"] = str(tapered_plot(d, tapered, out / TAPERED_PLOT))
+        if docs_dir is not None:
+            files["docs_tapered_plot"] = str(tapered_plot(d, tapered, Path(docs_dir) / "img" / TAPERED_PLOT))
+    link = TAPERED_PLOT if plots else None
+    md = table_markdown(rows, d, limits, info, tapered_markdown(tapered, d, link))
+    files.update({
         "markdown": str(write_text_atomic(out / "selection_table.md", md)),
         "csv": str(write_text_atomic(out / "selection_table.csv", table_csv(rows))),
         "limits": str(limits.save(out / "limits.json")),
-    }
+    })
     if docs_dir is not None:
-        files["docs_markdown"] = str(write_text_atomic(Path(docs_dir) / "structure_fem_table.md", md))
+        docs_md = table_markdown(rows, d, limits, info,
+                                 tapered_markdown(tapered, d, f"img/{TAPERED_PLOT}" if plots else None))
+        files["docs_markdown"] = str(write_text_atomic(Path(docs_dir) / "structure_fem_table.md", docs_md))
     if plots:
         files.update(write_plots(out, d))
-    return summary(d, limits, info, files, rows)
+    return summary(d, limits, info, files, rows, tapered)
+
+
+#: File name of the tapering-arch plot (in the output directory, and under docs/img with --docs).
+TAPERED_PLOT = "thesis_tapering_arches.png"
 
 
 def body_bending(d: Derivation) -> dict:

@@ -374,3 +374,141 @@ def table(d: Derivation, progress: Callable[[Iterable, str, int], Iterable] | No
             round(maxdef, 3), round(bridged.max_deflection_m * 1e3, 3), round(inp.clearance_m * 1e3 - maxdef, 3),
             round(min(tfs), 4), round(t_tip, 4), round(a_tip, 4)))
     return rows_out
+
+
+# --------------------------------------------------------------------------- the thesis's tapering arches
+
+@dataclass(frozen=True)
+class TaperRow:
+    """The thesis's tapering arch of one level at one void width, under our mechanics.
+
+    ``tip_mm`` / ``tipping_factor``: the core front just reaching the far ledge (``g = w``),
+    near foot only, ``k B`` core rows on the initial ground (the thesis's count);
+    ``tip_mm`` is None when the arch tips there (rigid factor <= required) or the solver
+    finds no equilibrium (``note`` says which). ``bridged_max_mm``: largest deflection of
+    the complete arch on both feet. ``passes``: stands and ``tip_mm <= clearance``.
+    ``uniform_*``: the derived band's structure at ``w`` (None beyond the derived span);
+    ``same_section_*``: the uniform ``2k x k`` staggered arch at ``w`` where the derivation
+    solved it (only up to just past its own threshold).
+    """
+
+    level: str
+    width: int
+    structure: str
+    lines: int
+    layers: int
+    block_rows: int
+    robots: int
+    robots_before_landing: int
+    tip_mm: float | None
+    tipping_factor: float | None
+    bridged_max_mm: float | None
+    margin_mm: float | None
+    passes: bool
+    uniform_structure: str | None
+    uniform_robots: int | None
+    uniform_tip_mm: float | None
+    same_section_structure: str
+    same_section_robots: int | None
+    same_section_tip_mm: float | None
+    note: str = ""
+
+
+def tapered_structure(lvl: StructureLevel) -> Structure:
+    """The planar structure of a tapering `StructureLevel` (``taper_block_rows`` set)."""
+    if not lvl.tapered:
+        raise InputError(f"structure {lvl.name!r} does not taper (taper_block_rows is None)")
+    return Structure("arch", lvl.lines, lvl.layers, "aligned", lvl.taper_block_rows)
+
+
+def tapered_point(s: Structure, w: int, inp: StudyInputs) -> dict:
+    """Tip and tipping factor at ``g = w`` before landing, largest deflection bridged (mm)."""
+    foot = s.foot_rows
+    before = Config(s, foot + w, w, w)
+    need = inp.required_tipping * (1 + 1e-6)
+    out: dict = {"tip_mm": None, "tipping_factor": None, "bridged_max_mm": None, "note": ""}
+    lay = layout(s, inp.robot, inp.connectors, before.rows, w, w)
+    rigid = tipping_factor(lay.bodies, [b.com_m[0] for b in lay.bodies])
+    out["tipping_factor"] = rigid
+    if rigid <= need:
+        out["note"] = f"tips before landing (rigid tipping factor {rigid:.3g})"
+    else:
+        try:
+            res = solve(before, inp.robot, inp.connectors, inp.flexible)
+            out["tip_mm"] = res.tip_deflection_mm
+            out["tipping_factor"] = res.tipping_factor
+        except SolverFailure:
+            out["note"] = "no static equilibrium found before landing"
+    try:
+        br = solve(Config(s, 2 * foot + w, w + foot, w, "bridged"), inp.robot, inp.connectors, inp.flexible)
+        out["bridged_max_mm"] = br.max_deflection_m * 1e3
+    except SolverFailure:
+        out["note"] = (out["note"] + "; " if out["note"] else "") + "no static equilibrium found bridged"
+    return out
+
+
+def _r(v: float | None, nd: int) -> float | None:
+    return None if v is None or not math.isfinite(v) else round(v, nd)
+
+
+def tapered_arches(d: Derivation, thesis: StructureLimits | None = None,
+                   progress: Callable[[Iterable, str, int], Iterable] | None = None) -> list[TaperRow]:
+    """Every width of every tapering level of the thesis preset, with our connectors and robot
+    record (``d.inputs``), beside the derived uniform arches at the same width where they exist.
+    Reads the derivation's curves; solves nothing on them (the derived limits stay as they are)."""
+    from .limits import thesis_limits
+
+    inp = d.inputs
+    thesis = thesis_limits(inp.robot.name) if thesis is None else thesis
+    clear = inp.clearance_m * 1e3
+    need = inp.required_tipping
+    jobs = [(lvl, w) for lvl in thesis.levels if lvl.tapered
+            for w in range(lvl.min_span_widths, lvl.max_span_widths + 1)]
+    it = jobs if progress is None else progress(jobs, "thesis tapering arches", len(jobs))
+    by_name = {c.structure.name: c for c in d.curves}
+    out = []
+    for lvl, w in it:
+        s = tapered_structure(lvl)
+        p = tapered_point(s, w, inp)
+        band = next(((u, lo, hi) for u, lo, hi in d.levels if lo <= w <= hi), None)
+        u_name = u_rob = u_tip = None
+        if band is not None:
+            c = by_name[band[0].name]
+            if w in c.widths:
+                i = c.widths.index(w)
+                u_name, u_rob, u_tip = c.structure.name, c.robots[i], _r(c.tip_mm[i], 3)
+        same = Structure("arch", s.lines, s.layers, "staggered")
+        c = by_name.get(same.name)
+        s_rob = s_tip = None
+        if c is not None and w in c.widths:
+            i = c.widths.index(w)
+            s_rob, s_tip = c.robots[i], _r(c.tip_mm[i], 3)
+        tip = p["tip_mm"]
+        stands = p["tipping_factor"] is not None and p["tipping_factor"] > need
+        out.append(TaperRow(
+            lvl.name, w, s.name, s.lines, s.layers, s.taper_block_rows, s.tapered_robots(w)["total"],
+            s.tapered_robots(w, far_foot=False)["total"], _r(tip, 3), _r(p["tipping_factor"], 4),
+            _r(p["bridged_max_mm"], 3), None if tip is None else round(clear - tip, 3),
+            bool(stands and tip is not None and tip <= clear), u_name, u_rob, u_tip, same.name, s_rob, s_tip,
+            p["note"]))
+    return out
+
+
+def tapered_verdict(rows: list[TaperRow], clearance_mm: float) -> dict:
+    """One summary per thesis level and overall: widths passing, worst tip, largest bridged deflection."""
+    levels = {}
+    for r in rows:
+        e = levels.setdefault(r.level, {"widths": [r.width, r.width], "passing_widths": [], "max_tip_mm": None,
+                                        "min_tip_mm": None, "max_bridged_mm": None, "min_tipping_factor": None})
+        e["widths"][1] = r.width
+        if r.passes:
+            e["passing_widths"].append(r.width)
+        for key, v, f in (("max_tip_mm", r.tip_mm, max), ("min_tip_mm", r.tip_mm, min),
+                          ("max_bridged_mm", r.bridged_max_mm, max), ("min_tipping_factor", r.tipping_factor, min)):
+            if v is not None:
+                e[key] = v if e[key] is None else f(e[key], v)
+    passing = [r.width for r in rows if r.passes]
+    return {"clearance_mm": clearance_mm, "levels": levels, "widths_evaluated": len(rows),
+            "widths_passing": passing, "all_hold": bool(rows) and len(passing) == len(rows),
+            "bridged_within_clearance": all(r.bridged_max_mm is not None and r.bridged_max_mm <= clearance_mm
+                                            for r in rows)}
