@@ -66,6 +66,15 @@ def test_table_json_outputs_and_properties_change_the_table(cli, tmp_path, test_
     for kind in ("line", "two_line", "arch"):
         assert out["thresholds"][kind] <= base.json()["thresholds"][kind]
     assert out["body_bending"] if "body_bending" in out else out["calibration"]["body_bending"]
+    # The thesis's tapering arches under the same mechanics: every band width, both truths side by side.
+    taper = out["thesis_tapering_arches"]
+    assert [r["width"] for r in taper["rows"]] == list(range(11, 31))
+    assert taper["verdict"]["widths_evaluated"] == 20
+    assert "## The thesis's tapering arches under our mechanics" in md and "**Verdict:" in md
+    assert (tmp_path / "thesis_tapering_arches.png").stat().st_size > 0
+    docs_md = (tmp_path / "docs" / "structure_fem_table.md").read_text()
+    assert "(img/thesis_tapering_arches.png)" in docs_md
+    assert (tmp_path / "docs" / "img" / "thesis_tapering_arches.png").stat().st_size > 0
 
 
 def test_caster_clearance_is_the_strict_alternative(cli, tmp_path):
@@ -83,6 +92,10 @@ def test_caster_clearance_is_the_strict_alternative(cli, tmp_path):
     (("fem", "solve", "--structure", "arch", "--lines", "9", "--rows", "5", "--over", "2", "--void", "2"), "8 wide"),
     (("fem", "solve", "--structure", "arch", "--layers", "5", "--rows", "5", "--over", "2", "--void", "2"), "4 high"),
     (("fem", "table", "--robot", "nosuchbot"), "nosuchbot"),
+    (("fem", "solve", "--structure", "line", "--taper-block-rows", "5", "--rows", "30", "--over", "15",
+      "--void", "15"), "only an arch can taper"),
+    (("fem", "solve", "--structure", "arch", "--lines", "6", "--layers", "3", "--taper-block-rows", "0",
+      "--rows", "30", "--over", "15", "--void", "15"), "taper_block_rows=0"),
     (("fem", "table", "--properties", "/nonexistent/robot_properties.json"), "not found"),
 ])
 def test_bad_input_is_one_line_exit_2(cli, tmp_path, argv, word):

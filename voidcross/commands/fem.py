@@ -22,6 +22,8 @@ EPILOG = """examples:
   voidcross fem study --out results/fem-study  deflection plots and sensitivity
   voidcross fem calibrate --json               fit the test-platform bolt to the thesis's 5 mm
   voidcross fem solve --structure line --rows 9 --over 4 --void 4
+  voidcross fem solve --structure arch --lines 6 --layers 3 --taper-block-rows 5 --rows 30 --over 15 --void 15
+                                               the thesis's tapering arch, core front at the far edge
   voidcross fem bench                          time the whole table and one 15-robot solve
 """
 
@@ -75,11 +77,25 @@ def run_table(args) -> int:
              f"arch levels {tt['arch_levels']}\n"
              f"calibrated platform bolt: {res['calibration']['bolt_stiffness_nm_per_rad']:.4g} N m/rad at "
              f"{res['calibration']['bolt_backlash_rad']:g} rad backlash\n"
+             + _tapered_line(res.get("thesis_tapering_arches"))
              + "\n".join(f"  {k}: {v}" for k, v in res["files"].items()))
     if not args.full_json:
         res.pop("table", None)
     emit(args, res, human)
     return 0
+
+
+def _tapered_line(t: dict | None) -> str:
+    """One line: do the thesis's tapering arches hold under our mechanics?"""
+    if not t:
+        return ""
+    v, rows = t["verdict"], t["rows"]
+    tips = [r["tip_mm"] for r in rows if r["tip_mm"] is not None]
+    bridged = [r["bridged_max_mm"] for r in rows if r["bridged_max_mm"] is not None]
+    span = f"tip {min(tips):.1f}..{max(tips):.1f} mm at g = w" if tips else "no standing cantilever"
+    return (f"thesis tapering arches under our mechanics: hold at {len(v['widths_passing'])} of "
+            f"{v['widths_evaluated']} band widths ({span}, clearance {v['clearance_mm']:g} mm; bridged at most "
+            f"{max(bridged, default=float('nan')):.1f} mm)\n")
 
 
 def run_study(args) -> int:
@@ -112,6 +128,9 @@ def _structure(args):
     from structure_fem.structures import Structure
 
     kind = args.structure
+    if args.taper_block_rows is not None:  # the thesis's tapering arch (lines aligned); bad kinds fail in Structure
+        lines, layers = (1, 1) if kind == "line" else (2, 1) if kind == "two_line" else (args.lines, args.layers)
+        return Structure(kind, lines, layers, "aligned", args.taper_block_rows)
     if kind == "line":
         return Structure("line")
     if kind == "two_line":
@@ -204,6 +223,9 @@ def register(sub, common) -> None:
     o.add_argument("--over", type=float, required=True, help="rows past the near edge")
     o.add_argument("--void", type=float, required=True, help="void width (robot widths)")
     o.add_argument("--phase", choices=("cantilever", "bridged"), default="cantilever")
+    o.add_argument("--taper-block-rows", type=int, default=None, metavar="B",
+                   help="the thesis's tapering arch (lines = 2 x layers, aligned), feet in blocks of B rows: "
+                        "--rows counts the core from its rear to its front, >= layers x B on the initial ground")
     o.add_argument("--plot", default=None, metavar="PNG", help="write a side view")
     _add_inputs(o)
     o.set_defaults(func=run_solve)

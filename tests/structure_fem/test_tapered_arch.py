@@ -1,0 +1,126 @@
+"""The thesis's tapering arch (Ch. 5.5.2) in our mechanics: its planar layout holds exactly the
+robots the thesis counts, it is stiffer than its bare core, its deflection follows its inputs,
+and the table evaluates every width of the thesis's arch bands."""
+
+from __future__ import annotations
+
+import pytest
+
+from structure_fem.connectors import ConnectorSet
+from structure_fem.errors import InputError
+from structure_fem.limits import taper_half_level, tapered_arch_robots, thesis_limits
+from structure_fem.structures import Structure, layout
+
+
+def _tapered(k: int, b: int) -> Structure:
+    return Structure("arch", 2 * k, k, "aligned", b)
+
+
+@pytest.mark.parametrize(("k", "b", "w"), [(3, 5, 11), (3, 5, 15), (3, 5, 20), (4, 5, 25), (4, 5, 30),
+                                           (2, 2, 5), (3, 2, 9)])
+def test_layout_mass_is_the_thesis_count_times_the_robot_mass(robot, k, b, w):
+    s = _tapered(k, b)
+    conn = ConnectorSet.from_robot(robot)
+    foot = k * b
+    before = layout(s, robot, conn, foot + w, w, w)  # core front at the far edge, near foot only
+    bridged = layout(s, robot, conn, 2 * foot + w, w + foot, w, "bridged")  # complete arch, both feet
+    for lay, far in ((before, False), (bridged, True)):
+        n = tapered_arch_robots(k, b, w, far_foot=far)["total"]
+        assert sum(bd.count for bd in lay.bodies) == n
+        assert sum(bd.mass_kg for bd in lay.bodies) == pytest.approx(n * robot.mass_kg, rel=1e-12)
+    assert {sp.ledge for sp in before.supports} == {"near"}
+    assert {sp.ledge for sp in bridged.supports} == {"near", "far"}
+
+
+def test_layout_couplings_count_robots_with_a_neighbour(robot):
+    """Front-rear joints between rows of a layer: the narrower row's robots; twist-locks: the upper layer's."""
+    k, b, w = 3, 2, 9
+    lay = layout(_tapered(k, b), robot, ConnectorSet.from_robot(robot), k * b + w, w, w)
+    row_of = {i: w - 1 - bd.row for i, bd in enumerate(lay.bodies)}  # body -> row past the near edge
+    for c in lay.couplings:
+        ja, jb = (taper_half_level(k, b, row_of[x], w, far_foot=False) for x in (c.a, c.b))
+        if c.role == "front_rear":
+            assert row_of[c.b] == row_of[c.a] + 1 and c.count == 2 * min(ja, jb)
+        else:
+            assert c.role == "top_twist" and lay.bodies[c.b].layer == lay.bodies[c.a].layer + 1
+            assert c.count == lay.bodies[c.b].count == 2 * ja
+    # thickest section at the near edge: 2k wide, k layers; bare core at the front
+    assert max(bd.layer for bd in lay.bodies) == k - 1
+    assert lay.bodies[lay.front_body].count == 2
+
+
+@pytest.mark.parametrize(("kw", "word"), [
+    (dict(kind="line", taper_block_rows=5), "only an arch can taper"),
+    (dict(kind="two_line", lines=2, taper_block_rows=5), "only an arch can taper"),
+    (dict(kind="arch", lines=6, layers=3, taper_block_rows=0), "taper_block_rows=0"),
+    (dict(kind="arch", lines=8, layers=3, taper_block_rows=5), "2k wide and k high"),
+    (dict(kind="arch", lines=6, layers=3, arrangement="staggered", taper_block_rows=5), "aligned"),
+])
+def test_bad_taper_is_one_clear_input_error(kw, word):
+    with pytest.raises(InputError, match=word) as exc:
+        Structure(**kw)
+    assert "\n" not in str(exc.value)
+
+
+def test_core_too_short_on_the_ground_or_front_past_the_far_ledge_is_input_error(robot):
+    s, conn = _tapered(3, 5), ConnectorSet.from_robot(robot)
+    with pytest.raises(InputError, match="at least 15 rows"):
+        layout(s, robot, conn, 20, 15, 15)
+    with pytest.raises(InputError, match="outside 1..15"):
+        layout(s, robot, conn, 40, 16, 15)
+    with pytest.raises(InputError, match="past the far foot"):
+        layout(s, robot, conn, 40, 20, 15, "bridged")
+    with pytest.raises(InputError, match="whole number"):
+        layout(s, robot, conn, 30, 14.5, 15)
+
+
+# ------------------------------------------------------------------ mechanics (exudyn)
+
+@pytest.fixture(scope="module")
+def exu():
+    return pytest.importorskip("exudyn")
+
+
+def test_tapered_arch_deflects_less_than_its_bare_core(exu, make_robot):
+    from structure_fem.model import Config, solve
+
+    robot = make_robot(k=200.0, backlash=0.002)
+    conn = ConnectorSet.from_robot(robot)
+    w, rows = 6, 15  # 9 core rows on the ground: the bare core stands too
+    tapered = solve(Config(_tapered(3, 2), rows, w, w), robot, conn)
+    core = solve(Config(Structure("two_line", 2, 1, "aligned"), rows, w, w), robot, conn)
+    assert core.tipping_factor > 1 and tapered.tipping_factor > core.tipping_factor
+    assert tapered.tip_deflection_m < 0.8 * core.tip_deflection_m
+    assert tapered.robots == core.robots + sum(2 * j * j - 2 for j in
+                                               (taper_half_level(3, 2, i, w, False) for i in range(-9, w)))
+
+
+def test_stiffer_connectors_lower_the_tapered_arch_deflection(exu, make_robot):
+    from structure_fem.study import StudyInputs, tapered_point
+
+    robot = make_robot(k=200.0, backlash=0.002)
+    s = _tapered(3, 2)
+    base = tapered_point(s, 8, StudyInputs.for_robot(robot))
+    stiff = tapered_point(s, 8, StudyInputs.for_robot(robot, stiffness_scale=2.0))
+    assert stiff["tip_mm"] < 0.9 * base["tip_mm"]
+    assert stiff["bridged_max_mm"] < 0.9 * base["bridged_max_mm"]
+    heavy = tapered_point(s, 8, StudyInputs.for_robot(robot, mass_scale=2.0))
+    assert heavy["tip_mm"] > base["tip_mm"]
+
+
+def test_table_evaluates_every_width_of_the_thesis_bands(exu, make_robot):
+    from structure_fem.study import Derivation, StudyInputs, tapered_arches, tapered_verdict
+
+    inp = StudyInputs.for_robot(make_robot(k=200.0, backlash=0.002))
+    rows = tapered_arches(Derivation(inp, [], []))  # no derived structures: uniform columns empty
+    lim = thesis_limits()
+    assert [r.width for r in rows] == list(range(11, 31))
+    for r in rows:
+        assert r.robots == lim.min_robots(r.width)  # the complete arch is the thesis's count
+        assert r.layers == lim.level_for(r.width).layers and r.uniform_structure is None
+        assert r.passes == (r.tip_mm is not None and r.tip_mm <= 15.0 and r.tipping_factor > 1)
+    v = tapered_verdict(rows, 15.0)
+    assert v["widths_evaluated"] == 20 and v["widths_passing"] == [r.width for r in rows if r.passes]
+    # within a level the arch is the same: a wider void is a longer cantilever, a larger tip
+    tips = [r.tip_mm for r in rows if r.level == "arch-15"]
+    assert tips == sorted(tips)
