@@ -5,7 +5,10 @@
   the stability rule (:func:`swarm_sim.structure.stable`) where it stands;
 * no robot outside the arena walls;
 * structure bookkeeping: members unique, their ``struct_index`` equals 1..n front to rear,
-  member poses lie on the structure's line.
+  member poses lie on the structure's line;
+* tapering arch (:mod:`swarm_sim.taper`): every shell slot holds at most one robot and no
+  robot is both in the core and in a foot; shell robots sit at their slot pose with their
+  (q, layer, foot) roles; the rule is checked in robots (core rows plus shell robots).
 """
 
 from __future__ import annotations
@@ -13,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import structure as S
+from . import taper as T
 from .params import Params
 from .state import OPEN, Mode, SwarmState
 from .world import World
@@ -29,8 +33,11 @@ def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> lis
         return out
     st = state.structure
     filled = [m for m in st.members if m != OPEN] if st is not None else []
-    members = set(filled)
-    if st is not None and len(members) != len(filled):
+    shell = [m for m in st.shell if m != OPEN] if st is not None else []
+    members = set(filled) | set(shell)
+    if st is not None and len(members) != len(filled) + len(shell):
+        out.append(f"t={state.t_s:.2f}s: a robot holds two structure slots")
+    if st is not None and len(set(filled)) != len(filled):
         out.append(f"t={state.t_s:.2f}s: duplicate structure members {st.members}")
     ex, ey = world.half_extents(state.heading_rad)
     x, y = state.x_cm, state.y_cm
@@ -39,19 +46,29 @@ def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> lis
         if int(i) not in members:
             out.append(f"t={state.t_s:.2f}s: robot {int(i)} (mode {Mode(int(state.mode[i])).name}) is over the "
                        f"void at ({state.x_cm[i]:.2f}, {state.y_cm[i]:.2f}) cm outside any structure")
-    if st is not None and st.members and st.action != "align":
+    if st is not None and (st.members or st.shell) and st.action != "align":
         c = S.counts_at(st.front_s_cm, S.full_rows(st), p.robot_length_cm, p.void_width_cm)
-        if S.all_rows(st) > S.full_rows(st) and S.centres_s(st, p.robot_length_cm)[-1] > 0:
+        if (not S.level_params(p, st).taper_block_rows and st.members
+                and S.all_rows(st) > S.full_rows(st)) and S.centres_s(st, p.robot_length_cm)[-1] > 0:
             out.append(f"t={state.t_s:.2f}s: a partly filled row is off the initial ground")
         p = S.level_params(p, st)
-        if c.n_g and not S.stable(c, p):
+        if p.taper_block_rows:
+            g = T.shell_geometry(p.layers, p.taper_block_rows, p.void_width)
+            rc = T.counts(st.front_s_cm, T.core_rows(st), T.shell_counts(st.shell, g), p.robot_length_cm,
+                          p.void_width_cm)
+            if not T.stable(rc, p.ground_ratio, p.ground_margin, p.max_span_widths):
+                out.append(f"t={state.t_s:.2f}s: tapering arch n_p={rc.n_p} n_g={rc.n_g} n_o={rc.n_o} robots "
+                           f"breaks the rule (ratio {p.ground_ratio}, margin {p.ground_margin}, span "
+                           f"{p.max_span_widths}, core rows over {rc.core_rows_over})")
+            out += _shell_violations(state, st, g, p)
+        elif c.n_g and not S.stable(c, p):
             out.append(f"t={state.t_s:.2f}s: structure n_p={c.n_p} n_g={c.n_g} n_o={c.n_o} breaks the "
                        f"rule (ratio {p.ground_ratio}, margin {p.ground_margin}, span {p.max_span_widths})")
         ids, slots = S.occupied(st)
         if (state.struct_index[ids] != slots // S.row_size(st) + 1).any():
             out.append(f"t={state.t_s:.2f}s: structure indices {state.struct_index[ids].tolist()} are not 1..n")
         mx, my, _ = S.member_poses(st, p.robot_length_cm, p.robot_width_cm, slots)
-        if np.abs(state.x_cm[ids] - mx).max() > 1e-6 or np.abs(state.y_cm[ids] - my).max() > 1e-6:
+        if ids.size and (np.abs(state.x_cm[ids] - mx).max() > 1e-6 or np.abs(state.y_cm[ids] - my).max() > 1e-6):
             out.append(f"t={state.t_s:.2f}s: structure members are off the line")
     outside = (x - ex < -1e-6) | (x + ex > world.w_cm + 1e-6) | (y - ey < -1e-6) | (y + ey > world.h_cm + 1e-6)
     for i in (np.flatnonzero(outside) if outside.any() else ()):
@@ -60,9 +77,32 @@ def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> lis
     return out
 
 
+def _shell_violations(state: SwarmState, st, g, p: Params) -> list[str]:
+    out: list[str] = []
+    if len(st.shell) != g.n:
+        return [f"t={state.t_s:.2f}s: shell has {len(st.shell)} slots, geometry {g.n}"]
+    sh = np.asarray(st.shell, dtype=np.int64)
+    slots = np.flatnonzero(sh != OPEN)
+    if not slots.size:
+        return out
+    ids = sh[slots]
+    sx, sy = T.slot_xy(st, g, p.robot_length_cm, p.robot_width_cm, slots)
+    if np.abs(state.x_cm[ids] - sx).max() > 1e-6 or np.abs(state.y_cm[ids] - sy).max() > 1e-6:
+        out.append(f"t={state.t_s:.2f}s: shell robots are off their slot poses")
+    if (state.mode[ids] != Mode.MEMBER).any():
+        out.append(f"t={state.t_s:.2f}s: a shell robot is not a structure member")
+    if (state.struct_line[ids] != g.q[slots]).any() or (state.struct_layer[ids] != g.z[slots]).any() or (
+            state.struct_opposite is not None and (state.struct_opposite[ids] != g.foot[slots]).any()):
+        out.append(f"t={state.t_s:.2f}s: shell robots' line/layer/opposite roles disagree with their slots")
+    return out
+
+
 def lost_robots(state: SwarmState, world: World) -> np.ndarray:
     """Robots that would fall: body over the void while not in the structure (cheap check)."""
     over = world.over_void(state.x_cm, state.heading_rad)
     if state.structure is not None and state.structure.members:
         over[S.occupied(state.structure)[0]] = False
+    if state.structure is not None and state.structure.shell:
+        sh = np.asarray(state.structure.shell, dtype=np.int64)
+        over[sh[sh != OPEN]] = False
     return np.flatnonzero(over)

@@ -35,6 +35,7 @@ TOML_KEYS = {
     "robot.wheel_base_cm": "wheel_base_cm", "robot.wheel_radius_cm": "wheel_radius_cm",
     "robot.wheel_width_cm": "wheel_width_cm", "robot.shape": "shape",
     "robot.speed_cm_s": "speed_cm_s", "robot.turn_max_rad": "turn_max_rad",
+    "robot.climb_s_per_layer": "climb_s_per_layer",
     "sensors.void_detect_cm": "void_detect_cm", "sensors.avoid_cm": "avoid_cm",
     "target.x_cm": "target_x_cm", "target.y_cm": "target_y_cm",
     "target.radius_cm": "target_radius_cm", "target.found_cm": "target_found_cm",
@@ -92,6 +93,9 @@ class Params:
     release_clear_s: float = 1.0
     recruit_timeout_s: float = 120.0
     launch_min_robots: int = 3
+    #: tapering arch: seconds a robot takes to climb (or come down) one layer onto a foot
+    #: column; our assumption, the thesis does not say how robots get up
+    climb_s_per_layer: float = 2.0
     # resolved from the limits record (filled by with_limits)
     limits_source: str = "unresolved"
     ground_ratio: float = 2.0
@@ -102,8 +106,10 @@ class Params:
     level_name: str = "line"
     lines: int = 1
     layers: int = 1
-    #: structure = "switch": every level of the record, in order, as
-    #: (name, lines, layers, ground_ratio, ground_margin incl. case margin, max_span_widths)
+    #: the level's taper block B (rows) when it is a tapering arch, else 0
+    taper_block_rows: int = 0
+    #: structure = "switch": every level of the record, in order, as (name, lines, layers,
+    #: ground_ratio, ground_margin incl. case margin, max_span_widths, taper_block_rows or 0)
     switch_levels: tuple = ()
     extra: dict = field(default_factory=dict, compare=False)
 
@@ -154,6 +160,9 @@ class Params:
                      "avoid_cm", "target_radius_cm", "target_found_cm", "levy_min_cm", "levy_max_cm",
                      "random_turn_rad", "dt_s", "max_time_s", "levy_mu"):
             pos(name)
+        req(isinstance(self.climb_s_per_layer, float) and math.isfinite(self.climb_s_per_layer)
+            and self.climb_s_per_layer >= 0,
+            f"climb_s_per_layer must be a number >= 0 (seconds), got {self.climb_s_per_layer!r}")
         req(self.wander_after_retreat_s >= 0, f"wander_after_retreat_s must be >= 0, got {self.wander_after_retreat_s}")
         req(0 <= self.random_turn_prob <= 1, f"random_turn_prob must be in 0..1, got {self.random_turn_prob}")
         req(self.levy_max_cm >= self.levy_min_cm,
@@ -239,7 +248,7 @@ def with_overrides(params: Params, overrides: dict, source: str = "override") ->
     names = {f.name for f in fields(Params)} - {"extra", "limits_source", "ground_ratio", "ground_margin",
                                                 "max_span_widths", "min_robots_rule", "record_min_robots",
                                                 "level_name", "lines", "layers",
-                                                "switch_levels"}
+                                                "switch_levels", "taper_block_rows"}
     clean = {}
     for k, v in overrides.items():
         if k not in names:
@@ -281,35 +290,61 @@ def with_limits(params: Params, limits) -> Params:
     def rows_for(lvl, width):
         return width + math.ceil(lvl.ground_ratio * width + int(lvl.ground_margin) + params.case_margin - 1e-9)
 
+    def row_robots(lvl):  # robots per row: a tapering arch's moving core is two lines
+        return 2 if lvl.tapered else lvl.lines * lvl.layers
+
+    def taper_need(chain):
+        """Rule minimum of a chain ending in tapering arches (swarm_sim.taper.rule_min_robots)."""
+        from .taper import rule_min_robots
+
+        flat = [lvl for lvl in chain if not lvl.tapered]
+        tap = [lvl for lvl in chain if lvl.tapered]
+        F = G = need = 0
+        if flat:
+            a = flat[-1]
+            F = a.max_span_widths
+            G = rows_for(a, F) - F
+            for x, y in zip(chain, chain[1:], strict=False):
+                if not x.tapered:
+                    need = max(need, rows_for(x, x.max_span_widths) * row_robots(y))
+        fin = tap[-1]
+        return max(need, rule_min_robots([(t.layers, t.taper_block_rows, t.max_span_widths) for t in tap], w, F, G,
+                                         float(fin.ground_ratio), int(fin.ground_margin) + params.case_margin))
+
     margin = int(level.ground_margin) + params.case_margin
     if w <= level.max_span_widths:
-        rule_min = rows_for(level, w) * level.lines * level.layers
+        rule_min = taper_need([level]) if level.tapered else rows_for(level, w) * level.lines * level.layers
         record_min = level.robots_for(w) + params.case_margin
     else:
         rule_min = record_min = 0  # this structure cannot span it: the swarm must retreat
     switch: tuple = ()
     if params.structure == "switch":
         switch = tuple((lvl.name, int(lvl.lines), int(lvl.layers), float(lvl.ground_ratio),
-                        int(lvl.ground_margin) + params.case_margin, int(lvl.max_span_widths))
+                        int(lvl.ground_margin) + params.case_margin, int(lvl.max_span_widths),
+                        int(lvl.taper_block_rows or 0))
                        for lvl in limits.levels)
         # every level passed on the way keeps its rows (they are widened, not rebuilt): the swarm
         # needs the most robots of any stage: rows at each switch times the next level's row size
         chain = [lvl for lvl in limits.levels if lvl.max_span_widths < w] + [level]
-        need = rows_for(level, w) * level.lines * level.layers
-        for a, b in zip(chain, chain[1:], strict=False):
-            need = max(need, rows_for(a, a.max_span_widths) * b.lines * b.layers)
+        if level.tapered:
+            need = taper_need(chain)
+        else:
+            need = rows_for(level, w) * level.lines * level.layers
+            for a, b in zip(chain, chain[1:], strict=False):
+                need = max(need, rows_for(a, a.max_span_widths) * b.lines * b.layers)
         rule_min = need
         level = limits.levels[0]
         margin = int(level.ground_margin) + params.case_margin
     return replace(params, limits_source=limits.source, ground_ratio=float(level.ground_ratio),
                    ground_margin=margin, max_span_widths=int(level.max_span_widths), min_robots_rule=int(rule_min),
                    record_min_robots=int(record_min), level_name=level.name, lines=int(level.lines),
-                   layers=int(level.layers), switch_levels=switch)
+                   layers=int(level.layers), taper_block_rows=int(level.taper_block_rows or 0),
+                   switch_levels=switch)
 
 
 @lru_cache(maxsize=64)
 def at_level(params: Params, i: int) -> Params:
     """``params`` with the rule and cross-section of switch level ``i`` (``structure = "switch"``)."""
-    name, lines, layers, ratio, margin, span = params.switch_levels[i]
+    name, lines, layers, ratio, margin, span, taper = params.switch_levels[i]
     return replace(params, level_name=name, lines=lines, layers=layers, ground_ratio=ratio,
-                   ground_margin=margin, max_span_widths=span)
+                   ground_margin=margin, max_span_widths=span, taper_block_rows=taper)

@@ -73,6 +73,16 @@ class Structure:
     landed: bool = False
     retreating: bool = False
     level: int = 0                   # index into Params.switch_levels (structure = "switch")
+    #: tapering arch (swarm_sim.taper): robot per shell slot (OPEN when empty), in
+    #: ShellGeometry slot order; () for structures without feet
+    shell: tuple[int, ...] = ()
+    #: a foot job under way: robots, one column each, kind fill_near | fill_far | unfill_near |
+    #: dissolve_far, stage drive | climb (climb also covers the dock and the column's slide)
+    job: tuple[int, ...] = ()
+    job_cols: tuple[int, ...] = ()
+    job_kind: str = ""
+    job_stage: str = ""
+    job_until_s: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -85,8 +95,11 @@ class SwarmState:
     mode: np.ndarray             # int8 Mode
     struct_index: np.ndarray     # int16: row 1..n while in the structure (front = 1), else 0
     struct_line: np.ndarray      # int8: role: 0 core line (coreL), 1 coreR, 2.. side lines; -1 free
+                                 # (tapering arch: lateral position q, side L q <= 0, side R q >= 1)
     struct_layer: np.ndarray     # int8: role: 0 ground layer, 1.. stacked layers; -1 free
     disperse_left_s: np.ndarray  # released robots drive straight away for this long
+    #: Table 5.1 "O" prefix: 1 in the far foot (on the target side), 0 core / near foot; -1 free
+    struct_opposite: np.ndarray | None = None
     t_s: float = 0.0
     step: int = 0
     phase: int = Phase.SEARCH
@@ -124,4 +137,5 @@ def new_state(x_cm: np.ndarray, y_cm: np.ndarray, heading_rad: np.ndarray) -> Sw
         goal_heading_rad=np.asarray(heading_rad, dtype=np.float64).copy(),
         run_left_cm=np.zeros(n), mode=np.zeros(n, dtype=np.int8),
         struct_index=np.zeros(n, dtype=np.int16), struct_line=np.full(n, -1, dtype=np.int8),
-        struct_layer=np.full(n, -1, dtype=np.int8), disperse_left_s=np.zeros(n))
+        struct_layer=np.full(n, -1, dtype=np.int8), disperse_left_s=np.zeros(n),
+        struct_opposite=np.full(n, -1, dtype=np.int8))

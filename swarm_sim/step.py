@@ -17,6 +17,7 @@ from dataclasses import replace
 import numpy as np
 
 from . import structure as S
+from . import taper as T
 from .explore import walk
 from .params import Params, at_level
 from .state import OPEN, WALKING_MODES, Mode, Phase, Structure, SwarmState
@@ -95,8 +96,16 @@ def _slide_off(x, y, h, dist, world: World):
     return x, y, h, False
 
 
+def _geometry(st: Structure, p: Params) -> T.ShellGeometry | None:
+    """The shell geometry of a tapered level (None for the other structures)."""
+    lp = S.level_params(p, st)
+    if not lp.taper_block_rows:
+        return None
+    return T.shell_geometry(lp.layers, lp.taper_block_rows, p.void_width)
+
+
 def _place_members(arr, st: Structure, p: Params):
-    x, y, h, idx, sline, slayer = arr
+    x, y, h, idx, sline, slayer, sopp = arr
     if st.members:
         ids, m = S.occupied(st)
         mx, my, mh = S.member_poses(st, p.robot_length_cm, p.robot_width_cm, m)
@@ -110,6 +119,74 @@ def _place_members(arr, st: Structure, p: Params):
             idx[ids] = m // k + 1
             sline[ids] = (m % k) % st.lines
             slayer[ids] = (m % k) // st.lines
+        sopp[ids] = 0
+    if st.shell:
+        g = _geometry(st, p)
+        sh = np.asarray(st.shell, dtype=np.int64)
+        slots = np.flatnonzero(sh != OPEN)
+        if slots.size:
+            ids = sh[slots]
+            x[ids], y[ids] = T.slot_xy(st, g, p.robot_length_cm, p.robot_width_cm, slots)
+            h[ids] = math.atan2(st.dir_y, st.dir_x)
+            idx[ids] = g.pos[slots] + 1
+            sline[ids] = g.q[slots]
+            slayer[ids] = g.z[slots]
+            sopp[ids] = g.foot[slots]
+
+
+def _release(r: int, away: float, mode, sidx, sline, slayer, sopp, goal, run_left, disp, rng, new_mode: int):
+    """A robot leaves the structure and walks off (``away``: heading it disperses around)."""
+    mode[r] = new_mode
+    sidx[r], sline[r], slayer[r], sopp[r] = 0, -1, -1, -1
+    u = rng.random(2)
+    goal[r] = away + (1 if u[0] < 0.5 else -1) * (0.35 + 0.7 * u[1])
+    run_left[r] = 0.0
+    disp[r] = DISPERSE_S
+
+
+def _foot_job(st: Structure, p: Params, t: float, x, y, h, mode, sidx, sline, slayer, sopp, goal, run_left,
+              disp, rng, world: World, ev) -> Structure:
+    """Advance the foot job (fill or dissolve a group of shell columns, one robot per column)."""
+    g = _geometry(st, p)
+    L, W = p.robot_length_cm, p.robot_width_cm
+    dir_h = math.atan2(st.dir_y, st.dir_x)
+    if st.job_stage == "drive":
+        arrived = True
+        for r, c in zip(st.job, st.job_cols, strict=True):
+            tx, ty = T.staging_xy(st, g, L, W, c)
+            rx, ry, rh = float(x[r]), float(y[r]), float(h[r])
+            if rx == tx and ry == ty and rh == dir_h:
+                continue
+            arrived = False
+            nx, ny, nh, done = _goto(rx, ry, rh, tx, ty, p, world, final_heading=dir_h, align_h=dir_h)
+            if done and math.hypot(nx - tx, ny - ty) < 1e-9:
+                nx, ny, nh = tx, ty, dir_h
+            x[r], y[r], h[r] = nx, ny, nh
+        if arrived:
+            zmax = max(int(g.col_z[c]) for c in st.job_cols)
+            st = replace(st, job_stage="climb", job_until_s=t + zmax * p.climb_s_per_layer + L / p.speed_cm_s)
+        return st
+    if t + 1e-9 < st.job_until_s:
+        return st
+    shell = list(st.shell)
+    if st.job_kind.startswith("fill"):
+        for r, c in zip(st.job, st.job_cols, strict=True):
+            T.fill_column(shell, g, c, r)
+            mode[r] = _MEMBER
+        ev(st.job_kind, st.job[0], robots=list(st.job), columns=list(st.job_cols))
+    else:
+        near = st.job_kind == "unfill_near"
+        new_mode = (_RETREAT if st.retreating else _EXPLORE) if near else _TARGET
+        away = dir_h + (math.pi if near else 0.0)
+        for c in st.job_cols:
+            r = T.pop_column(shell, g, c)
+            x[r], y[r] = T.staging_xy(st, g, L, W, c)
+            h[r] = dir_h + (math.pi if near else 0.0)
+            _release(r, away, mode, sidx, sline, slayer, sopp, goal, run_left, disp, rng, new_mode)
+            if new_mode == _EXPLORE:
+                disp[r] = 0.0
+        ev(st.job_kind, st.job[0], robots=list(st.job), columns=list(st.job_cols))
+    return replace(st, shell=tuple(shell), job=(), job_cols=(), job_kind="", job_stage="", job_until_s=0.0)
 
 
 def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
@@ -121,6 +198,8 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
     sidx = state.struct_index.copy()
     sline = state.struct_line.copy()
     slayer = state.struct_layer.copy()
+    sopp = (state.struct_opposite.copy() if state.struct_opposite is not None
+            else np.full(state.n, -1, dtype=np.int8))
     disp = state.disperse_left_s.copy()
     st = state.structure
     new = state
@@ -143,8 +222,9 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
                 mode[seed] = _SEED
                 sidx[seed] = 1
                 st = Structure(members=(seed,), origin_x_cm=world.x0_cm, origin_y_cm=float(state.y_cm[seed]),
-                               dir_x=1.0, dir_y=0.0, front_s_cm=0.0, action="align", lines=p.lines,
-                               layers=p.layers,
+                               dir_x=1.0, dir_y=0.0, front_s_cm=0.0, action="align",
+                               lines=2 if p.taper_block_rows else p.lines,
+                               layers=1 if p.taper_block_rows else p.layers,
                                lateral_sign=1.0 if state.y_cm[seed] < 0.5 * world.h_cm else -1.0)
                 phase, phase_since, seed_robot = _P_BUILD, t, seed
                 ev("seed", seed, x_cm=float(state.x_cm[seed]), y_cm=float(state.y_cm[seed]))
@@ -240,6 +320,8 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
                     mode[r] = _EXPLORE
                 ev("recruit_timeout", st.recruits[0], robots=list(st.recruits))
                 st = replace(st, recruits=(), recruit_slots=(), action="idle")
+        if st.job and st.action != "align":
+            st = _foot_job(st, p, t, x, y, h, mode, sidx, sline, slayer, sopp, goal, run_left, disp, rng, world, ev)
         if st.action == "idle":
             free = np.flatnonzero(mode == _EXPLORE)
             k = S.row_size(st)
@@ -255,21 +337,56 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
             slots = [S.slot_pose(st, q, L, p.robot_width_cm) for q in slot_ids]
             dock_ok = all(world.pose_ok1(sx_, sy_, 0.0) for sx_, sy_, _, _ in slots)
             # a row is recruited whole (assumption 5 of Ch. 5.4: several robots at once)
-            action, sit = S.decide(st, p, enough, dock_ok)
+            g = _geometry(st, p)
+            if g is not None:
+                if not st.shell:
+                    st = replace(st, shell=T.empty_shell(g))
+                action, sit = T.decide(st, S.level_params(p, st), g, int(free.size), enough, dock_ok)
+            else:
+                action, sit = S.decide(st, p, enough, dock_ok)
             if action == "release_front":
                 row = [r for r in st.members[:k] if r != OPEN]
+                # the row leaves from where the structure stands now (this step's move included)
+                fslots = np.flatnonzero(np.asarray(st.members[:k]) != OPEN)
+                x[row], y[row], _ = S.member_poses(st, L, p.robot_width_cm, fslots)
                 members = st.members[k:]
-                for fr in row:
-                    mode[fr] = _TARGET
-                    sidx[fr], sline[fr], slayer[fr] = 0, -1, -1
-                    u = rng.random(2)
-                    ang = math.atan2(st.dir_y, st.dir_x) + (1 if u[0] < 0.5 else -1) * (0.35 + 0.7 * u[1])
-                    goal[fr] = ang  # turns there through the walk (the edge reflex guards the body)
-                    run_left[fr] = 0.0
-                    disp[fr] = DISPERSE_S
+                far_cols = T.next_fill_group(st.shell, g, T.FAR) if g is not None else ()
+                to_far = row[:len(far_cols)]
+                for fr in row[len(to_far):]:
+                    # turns there through the walk (the edge reflex guards the body)
+                    _release(fr, math.atan2(st.dir_y, st.dir_x), mode, sidx, sline, slayer, sopp, goal, run_left,
+                             disp, rng, _TARGET)
+                for fr in to_far:  # Table 5.1 O-roles: a released core robot joins the far foot
+                    mode[fr] = _RECRUIT
+                    sidx[fr], sline[fr], slayer[fr], sopp[fr] = 0, -1, -1, 1
                 st = replace(st, members=members, front_s_cm=st.front_s_cm - L, action="wait",
                              wait_until_s=t + p.release_clear_s)
-                ev("release_front", row[0], n_left=len(members), robots=list(row))
+                if to_far:
+                    st = replace(st, job=tuple(to_far), job_cols=tuple(far_cols[:len(to_far)]), job_kind="fill_far",
+                                 job_stage="drive", job_until_s=0.0)
+                ev("release_front", row[0], n_left=len(members), robots=list(row), to_far_foot=list(to_far))
+            elif action == "hold":
+                pass
+            elif action in ("fill_near", "unfill_near", "dissolve_far"):
+                if action == "fill_near":
+                    cols = T.next_fill_group(st.shell, g, T.NEAR)[:free.size]
+                    chosen: list[int] = []
+                    pool = list(free)
+                    for c in cols:  # the closest free robot to each column's staging point
+                        sx_, sy_ = T.staging_xy(st, g, L, p.robot_width_cm, c)
+                        d2 = (x[pool] - sx_) ** 2 + (y[pool] - sy_) ** 2
+                        chosen.append(int(pool.pop(int(np.argmin(d2)))))
+                    for r in chosen:
+                        mode[r] = _RECRUIT
+                    st = replace(st, job=tuple(chosen), job_cols=tuple(cols), job_kind=action, job_stage="drive")
+                else:
+                    cols = T.next_unfill_group(st.shell, g, T.NEAR if action == "unfill_near" else T.FAR)
+                    prev = list(st.shell)
+                    robots = tuple(T.pop_column(prev, g, c) for c in cols)
+                    zmax = max(int(g.col_z[c]) for c in cols)
+                    st = replace(st, job=robots, job_cols=tuple(cols), job_kind=action, job_stage="climb",
+                                 job_until_s=t + zmax * p.climb_s_per_layer + L / p.speed_cm_s)
+                ev(action + "_start", st.job[0], robots=list(st.job), columns=list(st.job_cols))
             elif action == "release_rear":
                 cut = len(st.members) % k or k
                 row = [r for r in st.members[-cut:] if r != OPEN]
@@ -303,8 +420,15 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
             elif action == "switch":
                 nxt = st.level + 1
                 pl = at_level(p, nxt)
-                st = replace(st, members=S.widened(st, pl.lines, pl.layers), lines=pl.lines, layers=pl.layers,
-                             level=nxt)
+                if pl.taper_block_rows:
+                    # a tapering arch: the core is (or becomes) two lines; the feet are shell data
+                    g_new = T.shell_geometry(pl.layers, pl.taper_block_rows, p.void_width)
+                    shell = T.remap_shell(st.shell, g, g_new) if (g is not None and st.shell) else T.empty_shell(g_new)
+                    members = st.members if st.lines == 2 and st.layers == 1 else S.widened(st, 2, 1)
+                    st = replace(st, members=members, lines=2, layers=1, level=nxt, shell=shell)
+                else:
+                    st = replace(st, members=S.widened(st, pl.lines, pl.layers), lines=pl.lines, layers=pl.layers,
+                                 level=nxt)
                 ev("switch", st.members[0], level=pl.level_name, lines=pl.lines, layers=pl.layers,
                    n_p=sit.counts.n_p, n_g=sit.counts.n_g, rows=S.all_rows(st))
             elif action == "retreat":
@@ -312,7 +436,7 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
                 ev("retreat", st.members[0] if st.members else -1,
                    n=len(st.members), n_p=sit.counts.n_p, n_g=sit.counts.n_g, free=int(free.size),
                    why="span" if sit.span_blocked and not sit.filling else "no_free_robot")
-        if st.action in ("wait", "idle") and not st.members:
+        if st.action in ("wait", "idle") and not st.members and not st.job and all(r == OPEN for r in st.shell):
             # the structure is gone
             if st.retreating:
                 phase, phase_since = _P_WANDER, t
@@ -324,7 +448,7 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
                 ev("dissolved", retreated=False)
             st = None
         if st is not None and st.action != "align":
-            _place_members((x, y, h, sidx, sline, slayer), st, p)
+            _place_members((x, y, h, sidx, sline, slayer, sopp), st, p)
 
     # 4. target, wander clock, timeout
     target_finder = state.target_finder
@@ -351,7 +475,8 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
         ev("timeout")
 
     new = replace(state, x_cm=x, y_cm=y, heading_rad=h, goal_heading_rad=goal, run_left_cm=run_left,
-                  mode=mode, struct_index=sidx, struct_line=sline, struct_layer=slayer, disperse_left_s=disp, t_s=t, step=state.step + 1,
+                  mode=mode, struct_index=sidx, struct_line=sline, struct_layer=slayer, struct_opposite=sopp,
+                  disperse_left_s=disp, t_s=t, step=state.step + 1,
                   phase=int(phase), phase_since_s=phase_since, structure=st, seed_robot=seed_robot,
                   seed_position=seed_pos, target_finder=target_finder,
                   events=state.events + tuple(events) if events else state.events)
