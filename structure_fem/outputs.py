@@ -90,6 +90,18 @@ TAPER_COLUMNS = (
 )
 
 
+def tapered_csv(rows: list[TaperRow]) -> str:
+    """The tapering-arch evaluation, one row per (thesis level, width); every field of `TaperRow`."""
+    buf = io.StringIO()
+    fields = list(TaperRow.__dataclass_fields__)
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(fields)
+    for r in rows:
+        d = asdict(r)
+        w.writerow([_cell(d[k], md=False) for k in fields])
+    return buf.getvalue()
+
+
 def tapered_markdown(rows: list[TaperRow], d: Derivation, plot: str | None = None) -> str:
     """The section "The thesis's tapering arches under our mechanics" (verdict, table, plot link)."""
     if not rows:

@@ -20,7 +20,14 @@ from .calibration import Calibration, calibrate, calibrated_connectors
 from .errors import InputError
 from .limits import StructureLimits
 from .model import Config, solve
-from .outputs import summary, table_csv, table_markdown, tapered_markdown, write_text_atomic
+from .outputs import (
+    summary,
+    table_csv,
+    table_markdown,
+    tapered_csv,
+    tapered_markdown,
+    write_text_atomic,
+)
 from .study import Derivation, StudyInputs, derive, limits_from, table, tapered_arches
 
 CONNECTOR_SOURCES = ("properties", "calibrated")
@@ -125,6 +132,7 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
     files.update({
         "markdown": str(write_text_atomic(out / "selection_table.md", md)),
         "csv": str(write_text_atomic(out / "selection_table.csv", table_csv(rows))),
+        "tapered_csv": str(write_text_atomic(out / "thesis_tapering_arches.csv", tapered_csv(tapered))),
         "limits": str(limits.save(out / "limits.json")),
     })
     if docs_dir is not None:

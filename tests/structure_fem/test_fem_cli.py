@@ -72,6 +72,9 @@ def test_table_json_outputs_and_properties_change_the_table(cli, tmp_path, test_
     assert taper["verdict"]["widths_evaluated"] == 20
     assert "## The thesis's tapering arches under our mechanics" in md and "**Verdict:" in md
     assert (tmp_path / "thesis_tapering_arches.png").stat().st_size > 0
+    trows = list(csv.DictReader((tmp_path / "thesis_tapering_arches.csv").open()))
+    assert [int(r["width"]) for r in trows] == list(range(11, 31))
+    assert [r["passes"] == "True" for r in trows] == [r["passes"] for r in taper["rows"]]
     docs_md = (tmp_path / "docs" / "structure_fem_table.md").read_text()
     assert "(img/thesis_tapering_arches.png)" in docs_md
     assert (tmp_path / "docs" / "img" / "thesis_tapering_arches.png").stat().st_size > 0
@@ -131,7 +134,7 @@ def test_pipeline_stage_sets_limits_and_fem_dir(tmp_path, test_properties):
 
     ctx: dict = {"robot_properties": str(test_properties)}
     line = pipeline_stage(tmp_path / "fem", ctx)
-    assert "derived thresholds" in line
+    assert "derived thresholds" in line and "thesis tapering arches hold at" in line
     assert StructureLimits.load(ctx["limits"]).source == "derived"
     assert (tmp_path / "fem" / "selection_table.md").exists() and ctx["fem_dir"] == str(tmp_path / "fem")
 

@@ -252,5 +252,7 @@ def pipeline_stage(out: Path, ctx: dict) -> str:
     ctx["limits"] = res["files"]["limits"]
     ctx["fem_dir"] = str(out)
     th = res["thresholds"]
+    v = res["thesis_tapering_arches"]["verdict"]
     return (f"derived thresholds line {th['line']}, two_line {th['two_line']}, arch {th['arch']} "
-            f"{th['arch_levels']} (thesis 5/10/15 [20, 25, 30]); widest void {res['max_span_widths']}")
+            f"{th['arch_levels']} (thesis 5/10/15 [20, 25, 30]); widest void {res['max_span_widths']}; "
+            f"thesis tapering arches hold at {len(v['widths_passing'])} of {v['widths_evaluated']} band widths")
