@@ -7,7 +7,10 @@ side rail slides, so a half offset is possible; the top twist-lock has one
 centred key, so layers always stack aligned).
 
 :func:`layout` turns a structure, a robot and a position over a void into the
-planar bodies, couplings and ledge supports the model solves.
+planar bodies, couplings and ledge supports the model solves. A structure with
+``taper_block_rows`` is the thesis's tapering arch (a two-line core through
+static feet, Ch. 5.5.2): :func:`tapered_layout` places it row by row from
+`limits.taper_half_level`, to be evaluated beside the derived uniform ones.
 
 Why a planar (x-z) model is exact here: every robot, coupling and load
 (gravity) is symmetric about the structure's vertical mid-plane along the
