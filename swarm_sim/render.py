@@ -44,6 +44,8 @@ class Frame:
     seed: int
     row_size: int = 1
     lines: int = 1
+    layer: np.ndarray | None = None   # struct_layer (-1 free): top-view shade, side-view height
+    shell: tuple = ()                 # robots in the feet of a tapering arch (OPEN = -1 slots)
 
 
 @dataclass
@@ -59,8 +61,13 @@ class Recorder:
             st = s.structure
             self.frames.append(Frame(s.t_s, s.x_cm.copy(), s.y_cm.copy(), s.heading_rad.copy(), s.mode.copy(),
                                      thesis_state(s), st.members if st else (), st.front_s_cm if st else None,
-                                     s.seed_robot, st.lines * st.layers if st else 1, st.lines if st else 1))
+                                     s.seed_robot, st.lines * st.layers if st else 1, st.lines if st else 1,
+                                     s.struct_layer.copy(), st.shell if st else ()))
             self._next = s.t_s + self.every_s
+
+
+def _rgb(hexcol: str) -> np.ndarray:
+    return np.array([int(hexcol[i:i + 2], 16) / 255.0 for i in (1, 3, 5)])
 
 
 def _robot_polys(f: Frame, p: Params) -> np.ndarray:
@@ -117,7 +124,9 @@ class Renderer:
         self.side = PolyCollection([], edgecolors="k", linewidths=0.5)
         sv.add_collection(self.side)
         self.free_dots = sv.scatter([], [], s=4)
-        sv.set_xlim(-5, p.arena_w_cm + 5)
+        # the side strip looks at the void and a stretch of ground either side (feet, counterweight)
+        reach = max(25 * L, p.void_width_cm)
+        sv.set_xlim(max(-5, x0 - reach), min(p.arena_w_cm + 5, x1 + reach))
         sv.set_ylim(-3 * L, 3 * L)
         sv.set_aspect("equal")
         sv.set_yticks([])
@@ -128,42 +137,44 @@ class Renderer:
     def update(self, f: Frame):
         p, L, H = self.p, self.p.robot_length_cm, self.H
         polys = _robot_polys(f, p)
-        self.robots.set_verts(polys)
-        self.robots.set_facecolors([COLOURS[Mode(int(m))] for m in f.mode])
+        layer = f.layer if f.layer is not None else np.zeros(len(f.x), dtype=int)
+        # higher layers drawn last (on top), members shaded darker with each layer
+        order = np.argsort(layer, kind="stable")
+        self.robots.set_verts(polys[order])
+        cols = np.array([_rgb(COLOURS[Mode(int(m))]) for m in f.mode])
+        ins = (f.mode == Mode.MEMBER) & (layer > 0)
+        cols[ins] = cols[ins] * (1.0 - 0.22 * np.minimum(layer[ins], 3))[:, None]
+        self.robots.set_facecolors(cols[order])
         for t in self.texts:
             t.remove()
         self.texts = []
         ids = np.array(f.members, dtype=int)
         slots = np.flatnonzero(ids >= 0)  # open slots (-1) of a switch not yet filled
-        self.outline.set_verts(polys[ids[slots]] if len(slots) else [])
+        shell = np.array([i for i in f.shell if i >= 0], dtype=int)
+        self.outline.set_verts(polys[np.r_[ids[slots], shell]] if len(slots) + len(shell) else [])
         if 0 < len(ids) <= 40 * f.row_size:
             for m, i in enumerate(ids):
                 if i >= 0 and (m % f.row_size) < f.lines:  # label the ground layer with the row number
                     self.texts.append(self.ax.text(f.x[i], f.y[i], str(m // f.row_size + 1), ha="center",
                                                    va="center", fontsize=6, color="w"))
         counts = {k: int((f.state == k).sum()) for k in (-1, -2, -3)}
+        n_struct = int(len(slots) + len(shell))
         self.title.set_text(f"{p.preset}  N={p.robots}  void={p.void_width} widths  t = {f.t_s:7.2f} s   "
-                            f"structure {sum(1 for i in f.members if i >= 0)}  states -1:{counts[-1]} -2:{counts[-2]} -3:{counts[-3]}")
-        side, cols, top = [], [], 0
+                            f"structure {n_struct}  states -1:{counts[-1]} -2:{counts[-2]} -3:{counts[-3]}")
+        # side view: every structure robot at (x, layer); the taper and both feet show
+        side, scol, top = [], [], 0
         x0, x1 = p.void_x0_cm, p.void_x1_cm
-        if f.front_s_cm is not None:
-            for m in range(len(f.members)):
-                if f.members[m] < 0:
-                    continue
-                row, q = divmod(m, f.row_size)
-                if q % f.lines:
-                    continue  # side lines hide behind the core line in the side view
-                layer = q // f.lines
-                left = x0 + f.front_s_cm - (row + 1) * L
-                over = not (left + L <= x0 or left >= x1)
-                side.append([(left, layer * H), (left + L, layer * H), (left + L, (layer + 1) * H),
-                             (left, (layer + 1) * H)])
-                cols.append("#e377c2" if over else "#9467bd")
-                top = max(top, layer + 1)
+        inside = np.r_[ids[slots], shell].astype(int) if f.front_s_cm is not None else np.zeros(0, int)
+        for i in inside:
+            left, z = float(f.x[i]) - 0.5 * L, max(int(layer[i]), 0)
+            over = not (left + L <= x0 or left >= x1)
+            side.append([(left, z * H), (left + L, z * H), (left + L, (z + 1) * H), (left, (z + 1) * H)])
+            scol.append("#e377c2" if over else "#9467bd")
+            top = max(top, z + 1)
         self.side.set_verts(side)
-        self.side.set_facecolors(cols)
+        self.side.set_facecolors(scol)
         self.sv.set_ylim(-3 * L, max(3 * L, (top + 1) * H))
-        members = set(f.members)
+        members = set(inside.tolist())
         free = [i for i in range(len(f.x)) if i not in members]
         self.free_dots.set_offsets(np.c_[f.x[free], np.full(len(free), 0.5 * H)] if free else np.empty((0, 2)))
         self.free_dots.set_color([COLOURS[Mode(int(f.mode[i]))] for i in free] if free else [])

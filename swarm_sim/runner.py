@@ -57,12 +57,14 @@ class RunResult:
     seed_edge_cm: float | None = None
     #: Fig. 5.13: {"assembly": s, "disassembly": s} (see :func:`construction_times`)
     construction: dict = field(default_factory=dict)
+    #: the limits record's own robot count for this void (thesis: the complete arch)
+    record_min_robots: int = 0
 
     def to_dict(self, events: bool = False) -> dict:
         d = {k: getattr(self, k) for k in (
             "success", "retreated", "timed_out", "robots_lost", "times", "seed_robot", "seed_position",
             "target_finder", "preset", "robots", "void_width", "seed", "limits_source", "min_robots_rule",
-            "robots_delivered", "robots_on_initial_side", "steps", "wall_s", "violations",
+            "record_min_robots", "robots_delivered", "robots_on_initial_side", "steps", "wall_s", "violations",
             "levels_used", "switches", "seed_edge_cm")}
         d["switches"] = [dict(x) for x in self.switches]
         d["assembly"] = self.construction.get("assembly")
@@ -261,7 +263,7 @@ def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None
             {"t_s": t, "level": d["level"], "lines": d["lines"], "layers": d["layers"], "n_g": d["n_g"],
              "rows": d["rows"]} for t, k, _r, d in state.events if k == "switch"],
         seed_edge_cm=float(state.seed_position[1]) if state.seed_position is not None else None,
-        construction=construction_times(state.events, state.phase))
+        construction=construction_times(state.events, state.phase), record_min_robots=p.record_min_robots)
     return state, res
 
 

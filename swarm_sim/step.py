@@ -425,12 +425,21 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
                     g_new = T.shell_geometry(pl.layers, pl.taper_block_rows, p.void_width)
                     shell = T.remap_shell(st.shell, g, g_new) if (g is not None and st.shell) else T.empty_shell(g_new)
                     members = st.members if st.lines == 2 and st.layers == 1 else S.widened(st, 2, 1)
-                    st = replace(st, members=members, lines=2, layers=1, level=nxt, shell=shell)
+                    _, sy = T.slot_xy(st, g_new, L, p.robot_width_cm, np.arange(g_new.n))
+                    hw = 0.5 * p.robot_width_cm
+                    if sy.min() - hw < -1e-6 or sy.max() + hw > world.h_cm + 1e-6:
+                        # the feet would stick out of the arena beside this core line: give up
+                        st = replace(st, retreating=True)
+                        ev("retreat", st.members[0], n=len(st.members), n_p=sit.counts.n_p, n_g=sit.counts.n_g,
+                           free=int(free.size), why="no_room_for_the_feet")
+                    else:
+                        st = replace(st, members=members, lines=2, layers=1, level=nxt, shell=shell)
                 else:
                     st = replace(st, members=S.widened(st, pl.lines, pl.layers), lines=pl.lines, layers=pl.layers,
                                  level=nxt)
-                ev("switch", st.members[0], level=pl.level_name, lines=pl.lines, layers=pl.layers,
-                   n_p=sit.counts.n_p, n_g=sit.counts.n_g, rows=S.all_rows(st))
+                if not st.retreating:
+                    ev("switch", st.members[0], level=pl.level_name, lines=pl.lines, layers=pl.layers,
+                       n_p=sit.counts.n_p, n_g=sit.counts.n_g, rows=S.all_rows(st))
             elif action == "retreat":
                 st = replace(st, retreating=True)
                 ev("retreat", st.members[0] if st.members else -1,

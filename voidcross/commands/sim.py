@@ -119,7 +119,8 @@ def run(args: argparse.Namespace) -> int:
         else "TIMEOUT: still running at --max-time")
     fmt = lambda v: "-" if v is None else f"{v:.2f}"  # noqa: E731
     human = (f"{p.preset} N={p.robots} void={p.void_width} widths seed={args.seed} limits={p.limits_source} "
-             f"(rule n_p >= {p.ground_ratio:g} n_g + {p.ground_margin}, min robots {p.min_robots_rule or 'n/a'})\n"
+             f"(rule n_p >= {p.ground_ratio:g} n_g + {p.ground_margin}, min robots {p.min_robots_rule or 'n/a'} "
+             f"by the rule, {p.record_min_robots or 'n/a'} by the record)\n"
              f"{outcome}; robots lost {res.robots_lost}\n"
              f"seed robot {res.seed_robot} at {res.seed_position}, target found by {res.target_finder}\n"
              f"Ts {fmt(t['Ts'])}  Ta {fmt(t['Ta'])}  To {fmt(t['To'])}  Td {fmt(t['Td'])}  "
