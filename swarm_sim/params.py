@@ -311,6 +311,17 @@ def with_limits(params: Params, limits) -> Params:
         return max(need, rule_min_robots([(t.layers, t.taper_block_rows, t.max_span_widths) for t in tap], w, F, G,
                                          float(fin.ground_ratio), int(fin.ground_margin) + params.case_margin))
 
+    # a tapering arch stands k B rows onto each ground (plus a staging row): the arena must hold it
+    used = [lvl for lvl in limits.levels if lvl.max_span_widths < w] + [level] \
+        if params.structure == "switch" else [level]
+    feet = max((lvl.layers * lvl.taper_block_rows for lvl in used if lvl.tapered), default=0)
+    if feet:
+        L = params.robot_length_cm
+        room = min(params.void_x0_cm, params.arena_w_cm - params.void_x1_cm)
+        if room < (feet + 2) * L:
+            raise InputError(f"the tapering arch's feet need {(feet + 2) * L:g} cm of ground either side of "
+                             f"the void ({feet} rows + 2), the arena leaves {room:g} cm")
+
     margin = int(level.ground_margin) + params.case_margin
     if w <= level.max_span_widths:
         rule_min = taper_need([level]) if level.tapered else rows_for(level, w) * level.lines * level.layers

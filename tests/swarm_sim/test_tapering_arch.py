@@ -171,3 +171,8 @@ def test_block_rows_and_span_move_the_switch_and_the_counts(tmp_path):
 def test_climb_time_must_be_a_non_negative_number(lim):
     with pytest.raises(InputError, match="climb_s_per_layer"):
         params(lim, 30, climb_s_per_layer=-1.0)
+
+
+def test_an_arena_too_short_for_the_feet_is_rejected_before_the_run(lim):
+    with pytest.raises(InputError, match="feet need 60 cm"):
+        params(lim, 10, void_left_x_cm=40.0)
