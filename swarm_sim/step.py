@@ -341,7 +341,10 @@ def step(state: SwarmState, p: Params, world: World, rng: np.random.Generator,
             if g is not None:
                 if not st.shell:
                     st = replace(st, shell=T.empty_shell(g))
-                action, sit = T.decide(st, S.level_params(p, st), g, int(free.size), enough, dock_ok)
+                if st.job and (st.retreating or not st.landed):
+                    action, sit = "hold", None  # the tables' first row, without computing the rest
+                else:
+                    action, sit = T.decide(st, S.level_params(p, st), g, int(free.size), enough, dock_ok)
             else:
                 action, sit = S.decide(st, p, enough, dock_ok)
             if action == "release_front":
