@@ -176,3 +176,11 @@ def test_climb_time_must_be_a_non_negative_number(lim):
 def test_an_arena_too_short_for_the_feet_is_rejected_before_the_run(lim):
     with pytest.raises(InputError, match="feet need 60 cm"):
         params(lim, 10, void_left_x_cm=40.0)
+
+
+def test_cli_derived_limits_reject_30_widths_exit_2_and_thesis_reports_both_counts(cli):
+    res = cli("sim", "run", "--preset", "large-void-30", "--void-width", "30")
+    assert res.code == 2 and "wider than the widest" in res.error_lines[0]
+    # both counts on the human line (a too-short run: stops at the seed's alignment time cap)
+    res = cli("sim", "run", "--preset", "large-void-15", "--limits", "thesis", "--max-time", "1")
+    assert "min robots 200 by the rule, 370 by the record" in res.out
