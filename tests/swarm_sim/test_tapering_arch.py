@@ -186,11 +186,13 @@ def test_cli_derived_limits_reject_30_widths_exit_2_and_thesis_reports_both_coun
     assert "min robots 200 by the rule, 370 by the record" in res.out
 
 
-@pytest.mark.parametrize("preset, band", [("large-void", range(6, 11)),
-                                          ("large-void-15", range(11, 16)),
-                                          ("large-void-30", range(16, 31))])
-def test_each_thesis_large_void_preset_holds_enough_robots_for_every_width_of_its_band(preset, band):
-    """Issue 6: presets for 11..30 widths with the robot counts the structures need (thesis limits).
+@pytest.mark.parametrize("preset, band, limits", [("large-void", range(6, 11), "thesis"),
+                                                  ("large-void-15", range(11, 16), "thesis"),
+                                                  ("large-void-30", range(16, 31), "thesis"),
+                                                  ("large-void-17", range(6, 18), "derived")])
+def test_each_large_void_preset_holds_enough_robots_for_every_width_of_its_band(preset, band, limits):
+    """Issue 6: presets for 11..30 widths with the robot counts the structures need, for the
+    thesis's limits and for the derived ones (whose widest structure spans 17 widths).
 
     The need is the simulator's rule minimum computed from the record's geometry, so a change of
     the rule or the taper that makes a preset too small fails here, not in a 20-minute run.
@@ -199,5 +201,5 @@ def test_each_thesis_large_void_preset_holds_enough_robots_for_every_width_of_it
 
     robots = load_preset(preset).robots
     for w in band:
-        need = resolve_params(preset, robots, w, "thesis").min_robots_rule
+        need = resolve_params(preset, robots, w, limits).min_robots_rule
         assert robots >= need, f"{preset}: {robots} robots, {w} widths need {need}"
