@@ -8,10 +8,10 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed-stamp
 PIP_LOG := $(VENV)/pip-install.log
 
-.PHONY: demo test bench lint clean-venv help
+.PHONY: demo test bench boundary soak lint clean-venv help
 
 help:
-	@echo "make demo | make test | make bench | make lint"
+	@echo "make demo | make test | make bench | make boundary | make soak | make lint"
 
 $(BIN)/python:
 	@$(PYTHON) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else 1)' || \
@@ -36,6 +36,14 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python -m pytest -q -m bench --benchmark-enable tests
+
+# the thesis's crossing boundaries, 50 seeds per case over several widths (issue 13; ~15 min on 2 cores)
+boundary: $(STAMP)
+	$(BIN)/python -m pytest -q -s -m bench tests/swarm_sim/test_boundaries_at_scale.py
+
+# whole randomised runs, every invariant checked each step (docs/experiments.md has the 10,000-run figure)
+soak: $(STAMP)
+	$(BIN)/voidcross sim soak --runs 1000 --workers 2
 
 lint: $(STAMP)
 	$(BIN)/ruff check .

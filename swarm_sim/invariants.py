@@ -15,9 +15,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import rule as R
 from . import structure as S
 from . import taper as T
-from .params import Params
+from .params import Params, level_params
 from .state import OPEN, Mode, SwarmState
 from .world import World
 
@@ -48,20 +49,20 @@ def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> lis
                        f"void at ({state.x_cm[i]:.2f}, {state.y_cm[i]:.2f}) cm outside any structure")
     if st is not None and (st.members or st.shell) and st.action != "align":
         c = S.counts_at(st.front_s_cm, S.full_rows(st), p.robot_length_cm, p.void_width_cm)
-        if (not S.level_params(p, st).taper_block_rows and st.members
+        if (not level_params(p, st).taper_block_rows and st.members
                 and S.all_rows(st) > S.full_rows(st)) and S.centres_s(st, p.robot_length_cm)[-1] > 0:
             out.append(f"t={state.t_s:.2f}s: a partly filled row is off the initial ground")
-        p = S.level_params(p, st)
+        p = level_params(p, st)
         if p.taper_block_rows:
             g = T.shell_geometry(p.layers, p.taper_block_rows, p.void_width)
             rc = T.counts(st.front_s_cm, T.core_rows(st), T.shell_counts(st.shell, g), p.robot_length_cm,
                           p.void_width_cm)
-            if not T.stable(rc, p.ground_ratio, p.ground_margin, p.max_span_widths):
+            if not R.stable(rc, *p.rule):
                 out.append(f"t={state.t_s:.2f}s: tapering arch n_p={rc.n_p} n_g={rc.n_g} n_o={rc.n_o} robots "
                            f"breaks the rule (ratio {p.ground_ratio}, margin {p.ground_margin}, span "
                            f"{p.max_span_widths}, core rows over {rc.core_rows_over})")
             out += _shell_violations(state, st, g, p)
-        elif c.n_g and not S.stable(c, p):
+        elif c.n_g and not R.stable(c, *p.rule):
             out.append(f"t={state.t_s:.2f}s: structure n_p={c.n_p} n_g={c.n_g} n_o={c.n_o} breaks the "
                        f"rule (ratio {p.ground_ratio}, margin {p.ground_margin}, span {p.max_span_widths})")
         ids, slots = S.occupied(st)

@@ -17,6 +17,7 @@ from importlib import resources
 from pathlib import Path
 
 from .errors import InputError
+from .taper import rule_min_robots
 
 CASES = ("A", "B", "C", "D")
 STARTS = ("fixed", "random")
@@ -45,6 +46,7 @@ TOML_KEYS = {
     "exploration.random_turn_rad": "random_turn_rad",
     "sim.dt_s": "dt_s", "sim.max_time_s": "max_time_s",
     "sim.wander_after_retreat_s": "wander_after_retreat_s", "sim.finish_delivery": "finish_delivery",
+    "behaviour.recruit_stall_s": "recruit_stall_s", "behaviour.stall_s": "stall_s",
 }
 
 
@@ -91,7 +93,12 @@ class Params:
     finish_delivery: bool = False  # success waits for the structure to dissolve (large voids: Fig. 5.13)
     # behaviour timing of the structure (not in the thesis; small, documented)
     release_clear_s: float = 1.0
-    recruit_timeout_s: float = 120.0
+    #: a recruit whose remaining path has not shortened by half a grid cell for this long is
+    #: released and the next closest free robot is called (swarm_sim.recruitment)
+    recruit_stall_s: float = 20.0
+    #: a building structure that has not docked, moved, released, switched or seen a robot
+    #: come closer for this long retreats (swarm_sim.retreat.watchdog)
+    stall_s: float = 120.0
     launch_min_robots: int = 3
     #: tapering arch: seconds a robot takes to climb (or come down) one layer onto a foot
     #: column; our assumption, the thesis does not say how robots get up
@@ -131,6 +138,11 @@ class Params:
         return self.void_x0_cm + self.void_width_cm if self.void_width > 0 else math.inf
 
     @property
+    def rule(self) -> tuple[float, int, int]:
+        """(ground_ratio, ground_margin, max_span_widths): the arguments of :func:`swarm_sim.rule.stable`."""
+        return self.ground_ratio, self.ground_margin, self.max_span_widths
+
+    @property
     def steps_per_s(self) -> float:
         return 1.0 / self.dt_s
 
@@ -158,7 +170,7 @@ class Params:
         for name in ("arena_w_cm", "arena_h_cm", "robot_length_cm", "robot_width_cm", "wheel_base_cm",
                      "wheel_radius_cm", "wheel_width_cm", "speed_cm_s", "turn_max_rad", "void_detect_cm",
                      "avoid_cm", "target_radius_cm", "target_found_cm", "levy_min_cm", "levy_max_cm",
-                     "random_turn_rad", "dt_s", "max_time_s", "levy_mu"):
+                     "random_turn_rad", "dt_s", "max_time_s", "levy_mu", "recruit_stall_s", "stall_s"):
             pos(name)
         req(isinstance(self.climb_s_per_layer, float) and math.isfinite(self.climb_s_per_layer)
             and self.climb_s_per_layer >= 0,
@@ -295,8 +307,6 @@ def with_limits(params: Params, limits) -> Params:
 
     def taper_need(chain):
         """Rule minimum of a chain ending in tapering arches (swarm_sim.taper.rule_min_robots)."""
-        from .taper import rule_min_robots
-
         flat = [lvl for lvl in chain if not lvl.tapered]
         tap = [lvl for lvl in chain if lvl.tapered]
         F = G = need = 0
@@ -359,3 +369,8 @@ def at_level(params: Params, i: int) -> Params:
     name, lines, layers, ratio, margin, span, taper = params.switch_levels[i]
     return replace(params, level_name=name, lines=lines, layers=layers, ground_ratio=ratio,
                    ground_margin=margin, max_span_widths=span, taper_block_rows=taper)
+
+
+def level_params(p: Params, st) -> Params:
+    """The rule in force for structure ``st``: its switch level's (``structure = "switch"``), else ``p``."""
+    return at_level(p, st.level) if p.switch_levels else p

@@ -20,6 +20,7 @@ from cubot_cad.errors import InputError as _BaseInputError
 from .errors import InputError, InvariantViolation
 from .invariants import lost_robots, violations
 from .params import Params, load_preset, with_limits, with_overrides
+from .retreat import end_reason
 from .state import Phase, SwarmState, new_state
 from .step import step
 from .world import World
@@ -59,13 +60,18 @@ class RunResult:
     construction: dict = field(default_factory=dict)
     #: the limits record's own robot count for this void (thesis: the complete arch)
     record_min_robots: int = 0
+    #: how the run ended: crossed | retreated-no-robots | retreated-span | retreated-stalled |
+    #: retreated-blocked | retreated-no-room | timeout (swarm_sim.retreat.end_reason)
+    end_reason: str | None = None
+    #: recruits released because they made no progress, and the robot called instead (-1: none)
+    hand_overs: int = 0
 
     def to_dict(self, events: bool = False) -> dict:
         d = {k: getattr(self, k) for k in (
             "success", "retreated", "timed_out", "robots_lost", "times", "seed_robot", "seed_position",
             "target_finder", "preset", "robots", "void_width", "seed", "limits_source", "min_robots_rule",
             "record_min_robots", "robots_delivered", "robots_on_initial_side", "steps", "wall_s", "violations",
-            "levels_used", "switches", "seed_edge_cm")}
+            "levels_used", "switches", "seed_edge_cm", "end_reason", "hand_overs")}
         d["switches"] = [dict(x) for x in self.switches]
         d["assembly"] = self.construction.get("assembly")
         d["disassembly"] = self.construction.get("disassembly")
@@ -263,7 +269,9 @@ def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None
             {"t_s": t, "level": d["level"], "lines": d["lines"], "layers": d["layers"], "n_g": d["n_g"],
              "rows": d["rows"]} for t, k, _r, d in state.events if k == "switch"],
         seed_edge_cm=float(state.seed_position[1]) if state.seed_position is not None else None,
-        construction=construction_times(state.events, state.phase), record_min_robots=p.record_min_robots)
+        construction=construction_times(state.events, state.phase), record_min_robots=p.record_min_robots,
+        end_reason=end_reason(state.events, state.phase),
+        hand_overs=sum(1 for _t, k, _r, _d in state.events if k == "hand_over"))
     return state, res
 
 

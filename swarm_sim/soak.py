@@ -1,61 +1,180 @@
-"""Soak testing: many randomised short runs, every invariant checked every step.
+"""Soak testing: many randomised whole runs, every invariant checked every step.
 
-``soak(runs, seed)`` draws case (preset), swarm size, void width, arena size and
-seed per run, simulates ``max_time_s`` of it with the invariants of
-:mod:`swarm_sim.invariants` checked after every step, and reports every violation
-(and every robot lost) with the draw that produced it, so it can be replayed with
-``voidcross sim run``.
+``soak(runs, seed)`` draws, per run, a preset (every shipped one), a set of limits (both the
+derived and the thesis's), a swarm size around the rule's minimum, a void width, an arena
+(small heights and a void near the left wall put walls near the edge), obstacles (the
+preset's, none, or a random few) and a structure (line / auto / switch), then runs the draw
+**to its end** (crossed or retreated) with the invariants of :mod:`swarm_sim.invariants`
+checked after every step. It counts separately: runs that hit the time-limit guard
+(``timeouts``: a bug), invariant violations, robots lost, runs that raised (a bug: valid
+input never crashes) and draws rejected as invalid input before running. Every finding
+carries its draw, so it can be replayed with ``voidcross sim run``.
 """
 
 from __future__ import annotations
 
+import time
 from collections.abc import Iterable
 
 import numpy as np
 
 from .errors import InputError
+from .params import preset_names
 from .runner import resolve_params, simulate
 
-PRESETS = ("case-a", "case-b", "case-c", "case-d")
+CASES = ("case-a", "case-b", "case-c", "case-d")
+LIMITS = ("derived", "thesis")
+#: share of draws from the large-void presets (their runs are long: a big target side to search)
+LARGE_SHARE = 0.03
 
 
-def draw(rng: np.random.Generator) -> dict:
-    """One random scenario: preset, robots, void width, arena size, seed and structure
-    (``auto`` builds the limits' level for the void; ``switch`` widens it during the build)."""
-    preset = str(rng.choice(PRESETS))
+def _obstacles(rng: np.random.Generator, arena_w: float, arena_h: float, x0: float, x1: float,
+               target: tuple[float, float], L: float) -> list:
+    """A few small obstacles on either ground, away from the void, the walls and the target."""
+    out = []
+    for _ in range(int(rng.integers(1, 6))):
+        r = float(rng.uniform(3.0, 6.0))
+        for _try in range(20):
+            x, y = float(rng.uniform(0, arena_w)), float(rng.uniform(0, arena_h))
+            if (x + r + L < x0 or x - r - L > x1) and L + r < y < arena_h - L - r and \
+                    r + L < x < arena_w - L - r and (x - target[0]) ** 2 + (y - target[1]) ** 2 > (3 * L + r) ** 2:
+                out.append([x, y, r])
+                break
+    return out
+
+
+def draw(rng: np.random.Generator, limits: tuple = LIMITS) -> dict:
+    """One random scenario (the keyword arguments of :func:`swarm_sim.runner.resolve_params`
+    plus ``seed``); ``limits`` the sets to draw from."""
+    large = [n for n in preset_names() if n.startswith("large-void")]
+    lim = str(rng.choice(list(limits)))
+    if large and rng.random() < LARGE_SHARE:
+        preset = str(rng.choice(large))
+        w = int(rng.integers(1, 5))
+        robots = int(rng.integers(max(1, 3 * w - 2), 3 * w + 13))
+        return {"preset": preset, "robots": robots, "void_width": w, "seed": int(rng.integers(0, 2**31 - 1)),
+                "limits": lim, "structure": "switch"}
+    preset = str(rng.choice(CASES))
     w = int(rng.integers(1, 6))
-    big = preset != "case-a"
-    arena_w = float(rng.integers(400 if big else 250, 801 if big else 501))
-    arena_h = float(rng.integers(150, 401))
-    robots = int(rng.integers(1, 3 * w + 4))
-    return {"preset": preset, "robots": robots, "void_width": w, "seed": int(rng.integers(0, 2**31 - 1)),
-            "arena_w_cm": arena_w, "arena_h_cm": arena_h, "target_x_cm": arena_w - 25.0,
-            "target_y_cm": arena_h / 2, "structure": str(rng.choice(["line", "auto", "switch"]))}
+    L = 12.0
+    arena_w = float(rng.integers(250 if preset == "case-a" else 400, 501 if preset == "case-a" else 801))
+    arena_h = float(rng.integers(100, 401))
+    margin = 2 if preset == "case-a" else 0
+    robots = int(rng.integers(1, 3 * w + margin + 5))
+    d = {"preset": preset, "robots": robots, "void_width": w, "seed": int(rng.integers(0, 2**31 - 1)),
+         "limits": lim, "arena_w_cm": arena_w, "arena_h_cm": arena_h, "target_x_cm": arena_w - 25.0,
+         "target_y_cm": float(rng.uniform(0.2, 0.8)) * arena_h,
+         "structure": str(rng.choice(["line", "auto", "switch"]))}
+    x0 = 0.5 * (arena_w - w * L)
+    if rng.random() < 0.25:  # the void near the left wall: walls close to the edge and the dock
+        x0 = float(rng.uniform(3 * L, 6 * L))
+        d["void_left_x_cm"] = x0
+    kind = rng.random()
+    if kind < 0.35:
+        d["obstacles"] = []
+    elif kind < 0.7:
+        d["obstacles"] = _obstacles(rng, arena_w, arena_h, x0, x0 + w * L, (d["target_x_cm"], d["target_y_cm"]), L)
+    else:  # the preset's own obstacles where they still fit this arena and void
+        d["obstacles"] = None
+    return d
 
 
-def soak(runs: int, seed: int = 0, max_time_s: float = 60.0, limits: str = "thesis",
-         progress=lambda it, total: it) -> dict:
+def _one(d: dict, max_time_s: float | None) -> dict:
+    """Run one draw to its end; the findings as a small dict (runs in a worker process)."""
+    kw = {k: v for k, v in d.items() if k not in ("preset", "robots", "void_width", "seed", "limits")}
+    if kw.get("obstacles") is None:
+        kw.pop("obstacles", None)
+    try:
+        p = resolve_params(d["preset"], d["robots"], d["void_width"], d["limits"], max_time_s, **kw)
+    except InputError as exc:
+        return {"status": "invalid", "why": str(exc)}
+    try:
+        _, res = simulate(p, d["seed"], check=True)
+    except InputError as exc:  # e.g. the fixed start grid does not fit: refused, not run
+        return {"status": "invalid", "why": str(exc)}
+    except Exception as exc:  # noqa: BLE001 - a crash on valid input is a finding, not a stop
+        return {"status": "error", "error": f"{type(exc).__name__}: {exc}"}
+    return {"status": "ok", "end_reason": res.end_reason, "timed_out": res.timed_out, "lost": res.robots_lost,
+            "violations": list(res.violations[:3]), "t_s": res.times.get("Tt"), "steps": res.steps,
+            "hand_overs": res.hand_overs}
+
+
+def _star(a):
+    return _one(*a)
+
+
+def soak(runs: int, seed: int = 0, max_time_s: float | None = None, limits: str | tuple = LIMITS,
+         workers: int = 1, progress=lambda it, total: it) -> dict:
+    """``runs`` random whole runs (module docstring). ``limits``: ``"derived"``, ``"thesis"``,
+    a path, or a tuple of them to draw from (default both); ``max_time_s``: override the
+    presets' time-limit guard (None: keep it); ``workers``: processes."""
     if isinstance(runs, bool) or not isinstance(runs, int) or runs < 1:
         raise InputError(f"--runs must be a positive integer, got {runs!r}")
-    if not (max_time_s > 0):
-        raise InputError(f"--max-time must be > 0 s, got {max_time_s}")
-    rng = np.random.default_rng(seed)
-    report: dict = {"runs": runs, "seed": seed, "max_time_s": max_time_s, "limits": limits,
-                    "violations": [], "robots_lost": 0, "skipped_invalid": 0, "outcomes": {}}
-    todo: Iterable = progress(range(runs), runs)
-    for _ in todo:
-        d = draw(rng)
-        kw = {k: v for k, v in d.items() if k not in ("preset", "robots", "void_width", "seed")}
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise InputError(f"--seed must be a non-negative integer, got {seed!r}")
+    if max_time_s is not None and not (max_time_s > 0 and max_time_s < float("inf")):
+        raise InputError(f"--max-time must be a positive number of seconds, got {max_time_s}")
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise InputError(f"--workers must be a positive integer, got {workers!r}")
+    lims = (limits,) if isinstance(limits, str) else tuple(limits)
+    from cubot_cad.errors import InputError as _BaseInputError
+    from structure_fem.limits import load_limits
+
+    for name in lims:  # bad explicit limits are an input error, not "0 violations"
         try:
-            p = resolve_params(d["preset"], d["robots"], d["void_width"], limits, max_time_s, **kw)
-            _, res = simulate(p, d["seed"], check=True)
-        except InputError:
-            report["skipped_invalid"] += 1  # e.g. the swarm does not fit: rejected before running
-            continue
-        outcome = "success" if res.success else "retreated" if res.retreated else "running_at_cap"
-        report["outcomes"][outcome] = report["outcomes"].get(outcome, 0) + 1
-        report["robots_lost"] += res.robots_lost
-        for v in res.violations:
-            report["violations"].append({**d, "violation": v})
-    report["n_violations"] = len(report["violations"])
+            load_limits(name)
+        except _BaseInputError as exc:
+            raise InputError(f"--limits {name}: {exc}") from None
+    rng = np.random.default_rng(seed)
+    draws = [draw(rng, lims) for _ in range(runs)]
+    t0 = time.perf_counter()
+    report: dict = {"runs": runs, "seed": seed, "limits": list(lims), "max_time_s": max_time_s,
+                    "whole_runs": True, "timeouts": 0, "n_violations": 0, "robots_lost": 0, "errors": 0,
+                    "skipped_invalid": 0, "hand_overs": 0, "end_reasons": {}, "by_preset": {},
+                    "violations": [], "timeout_draws": [], "error_draws": [], "simulated_s": 0.0}
+    args = [(d, max_time_s) for d in draws]
+    if workers == 1:
+        results: Iterable = map(_star, args)
+        pool = None
+    else:
+        import multiprocessing as mp
+
+        pool = mp.get_context("spawn").Pool(workers)
+        results = pool.imap(_star, args, chunksize=4)
+    try:
+        for d, out in zip(draws, progress(results, runs), strict=False):
+            _tally(report, d, out)
+    finally:
+        if pool is not None:
+            pool.terminate()
+    report["wall_s"] = round(time.perf_counter() - t0, 2)
+    report["simulated_s"] = round(report["simulated_s"], 2)
     return report
+
+
+def _tally(report: dict, d: dict, out: dict) -> None:
+    if out["status"] == "invalid":
+        report["skipped_invalid"] += 1
+        return
+    bp = report["by_preset"].setdefault(d["preset"], {"runs": 0, "crossed": 0, "retreated": 0, "timeouts": 0})
+    bp["runs"] += 1
+    if out["status"] == "error":
+        report["errors"] += 1
+        report["error_draws"].append({**d, "error": out["error"]})
+        return
+    reason = out["end_reason"] or "running"
+    report["end_reasons"][reason] = report["end_reasons"].get(reason, 0) + 1
+    if reason == "crossed":
+        bp["crossed"] += 1
+    elif reason.startswith("retreated"):
+        bp["retreated"] += 1
+    if out["timed_out"]:
+        report["timeouts"] += 1
+        bp["timeouts"] += 1
+        report["timeout_draws"].append(d)
+    report["robots_lost"] += out["lost"]
+    report["hand_overs"] += out["hand_overs"]
+    report["simulated_s"] += out["t_s"] or 0.0
+    for v in out["violations"]:
+        report["n_violations"] += 1
+        report["violations"].append({**d, "violation": v})

@@ -69,6 +69,13 @@ class Structure:
     recruits: tuple[int, ...] = ()   # robots called for the rear slots, in slot order
     recruit_slots: tuple[int, ...] = ()  # the slot each recruit docks at (row-major member index)
     recruit_since_s: float = 0.0
+    #: per recruit: the shortest remaining path seen (cm) and when it last shortened (s)
+    recruit_best_cm: tuple[float, ...] = ()
+    recruit_progress_s: tuple[float, ...] = ()
+    #: robots that failed to reach this dock point (handed over); cleared by the next dock
+    passed_over: tuple[int, ...] = ()
+    #: when the structure last docked, moved, released, switched or saw a robot come closer (s)
+    progress_s: float = 0.0
     lateral_sign: float = 1.0        # extra lines go to this side of the core line
     landed: bool = False
     retreating: bool = False
@@ -83,6 +90,8 @@ class Structure:
     job_kind: str = ""
     job_stage: str = ""
     job_until_s: float = 0.0
+    job_best_cm: tuple[float, ...] = ()
+    job_progress_s: tuple[float, ...] = ()
 
 
 @dataclass(frozen=True)

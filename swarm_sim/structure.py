@@ -30,11 +30,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .params import Params, at_level
+from . import rule as R
 from .state import OPEN, Structure
+
+if TYPE_CHECKING:
+    from .params import Params
 
 EPS = 1e-6
 
@@ -47,13 +51,6 @@ ACTIONS = {
     "advance": "move forward one robot length",
     "back": "move backward one robot length (retreat)",
 }
-
-
-@dataclass(frozen=True)
-class Counts:
-    n_p: int
-    n_g: int
-    n_o: int
 
 
 def row_size(st: Structure) -> int:
@@ -85,11 +82,6 @@ def slot_pose(st: Structure, m: int, L: float, W: float) -> tuple[float, float, 
     lat = line * W * st.lateral_sign
     return (st.origin_x_cm + s * st.dir_x - lat * st.dir_y, st.origin_y_cm + s * st.dir_y + lat * st.dir_x,
             line, layer)
-
-
-def level_params(p: Params, st: Structure) -> Params:
-    """The rule in force for this structure: its switch level's (``structure = "switch"``), else ``p``."""
-    return at_level(p, st.level) if p.switch_levels else p
 
 
 def occupied(st: Structure) -> tuple[np.ndarray, np.ndarray]:
@@ -137,41 +129,9 @@ def member_poses(st: Structure, L: float, W: float | None = None,
             float(np.arctan2(st.dir_y, st.dir_x)))
 
 
-def counts_at(front_s: float, n: int, L: float, void_cm: float) -> Counts:
-    """Rows (of any size) counted by where their centre of mass is."""
-    s = front_s - (np.arange(n) + 0.5) * L
-    n_p = int(np.sum(s <= EPS))
-    n_o = int(np.sum(s >= void_cm - EPS))
-    return Counts(n_p, n - n_p - n_o, n_o)
-
-
-def stable(c: Counts, p: Params) -> bool:
-    if c.n_g == 0:
-        return True
-    if c.n_g > p.max_span_widths:
-        return False
-    need = p.ground_ratio * c.n_g + p.ground_margin - EPS
-    if c.n_p and c.n_o:
-        return c.n_p + c.n_o >= need
-    if c.n_p:
-        return c.n_p >= need
-    if c.n_o:
-        return c.n_o >= need
-    return False
-
-
-def move_stable(front_from: float, front_to: float, n: int, p: Params) -> bool:
-    """The rule holds at every configuration the line passes through on a move."""
-    L, V = p.robot_length_cm, p.void_width_cm
-    # counts change only where a row centre crosses an edge: check just after each crossing
-    lo, hi = min(front_from, front_to), max(front_from, front_to)
-    pts = [front_from, front_to]
-    for k in range(n):
-        for edge in (0.0, V):
-            f = edge + (k + 0.5) * L
-            if lo - EPS <= f <= hi + EPS:
-                pts += [f - 10 * EPS, f + 10 * EPS]
-    return all(stable(counts_at(f, n, L, V), p) for f in pts if lo - 20 * EPS <= f <= hi + 20 * EPS)
+def counts_at(front_s: float, n: int, L: float, void_cm: float) -> R.Counts:
+    """Rows (of any size) counted by where their centre of mass is (:func:`swarm_sim.rule.counts`)."""
+    return R.counts(front_s, n, L, void_cm)
 
 
 @dataclass(frozen=True)
@@ -179,7 +139,7 @@ class Situation:
     """What the structure knows when idle (all local to the structure or broadcast).
     Counts are in rows; a partly filled rear row (being recruited) is not counted."""
 
-    counts: Counts
+    counts: R.Counts
     n: int
     landed: bool
     front_on_target: bool
@@ -207,16 +167,26 @@ def situation(st: Structure, p: Params, free_available: bool, dock_ok: bool) -> 
     short_rear = n_all > n          # a rear row being recruited (not counted)
     partial = short_rear or fill    # ... or new lines still open after a switch: no move, no release
     can_advance = (launch_ok and not partial and not span_blocked
-                   and move_stable(st.front_s_cm, st.front_s_cm + L, n, p))
-    wo_front = counts_at(st.front_s_cm - L, n - 1, L, V) if n > 1 else Counts(0, 0, 0)
-    wo_rear = c if short_rear else (counts_at(st.front_s_cm, n - 1, L, V) if n > 1 else Counts(0, 0, 0))
+                   and R.move_stable(st.front_s_cm, st.front_s_cm + L, n, L, V, *p.rule))
+    wo_front = counts_at(st.front_s_cm - L, n - 1, L, V) if n > 1 else R.Counts(0, 0, 0)
+    wo_rear = c if short_rear else (counts_at(st.front_s_cm, n - 1, L, V) if n > 1 else R.Counts(0, 0, 0))
     return Situation(c, n, st.landed, front_on_target and not partial, rear_on_initial, free_available,
-                     dock_ok, can_advance, span_blocked, stable(wo_front, p), stable(wo_rear, p),
+                     dock_ok, can_advance, span_blocked, R.stable(wo_front, *p.rule), R.stable(wo_rear, *p.rule),
                      fill, bool(p.switch_levels) and st.level + 1 < len(p.switch_levels))
 
 
-def _can_recruit(s: Situation) -> bool:
+def can_recruit(s) -> bool:
+    """A robot can be called to the rear: one is free, the rear is on the initial ground and its
+    dock point is clear (any structure's situation)."""
     return s.free_available and s.rear_on_initial and s.dock_ok
+
+
+def first_match(table: tuple, s) -> str:
+    """The action of the first row of a decision table whose guard holds for situation ``s``."""
+    for action, guard in table:
+        if guard(s):
+            return action
+    raise AssertionError("decision table has no default row")  # pragma: no cover
 
 
 #: Building (not retreating): (action, guard) rows, first match wins.
@@ -224,12 +194,12 @@ BUILD_TABLE = (
     ("release_front", lambda s: s.front_on_target and s.stable_without_front),
     # Ch. 5.5.2: the far ledge is not found within this level's span: widen to the next level
     ("switch", lambda s: s.span_blocked and s.can_switch and not s.filling),
-    ("recruit", lambda s: s.filling and _can_recruit(s)),   # fill the new lines/layers
+    ("recruit", lambda s: s.filling and can_recruit(s)),   # fill the new lines/layers
     ("retreat", lambda s: s.filling),                       # ... with no free robot left
     ("retreat", lambda s: s.span_blocked),
-    ("recruit", lambda s: _can_recruit(s) and (s.counts.n_p <= s.counts.n_g if s.landed else not s.can_advance)),
+    ("recruit", lambda s: can_recruit(s) and (s.counts.n_p <= s.counts.n_g if s.landed else not s.can_advance)),
     ("advance", lambda s: s.can_advance),
-    ("recruit", lambda s: _can_recruit(s)),
+    ("recruit", lambda s: can_recruit(s)),
     ("retreat", lambda s: True),
 )
 
@@ -241,9 +211,6 @@ RETREAT_TABLE = (
 
 
 def decide(st: Structure, p: Params, free_available: bool, dock_ok: bool) -> tuple[str, Situation]:
-    s = situation(st, level_params(p, st), free_available, dock_ok)
-    table = RETREAT_TABLE if st.retreating else BUILD_TABLE
-    for action, guard in table:
-        if guard(s):
-            return action, s
-    raise AssertionError("decision table has no default row")  # pragma: no cover
+    """``p``: the structure's level params (:func:`swarm_sim.params.level_params`)."""
+    s = situation(st, p, free_available, dock_ok)
+    return first_match(RETREAT_TABLE if st.retreating else BUILD_TABLE, s), s

@@ -44,6 +44,8 @@ import numpy as np
 
 from structure_fem.limits import taper_half_level
 
+from . import rule as R
+from . import structure as S
 from .state import OPEN, Structure
 
 EPS = 1e-6
@@ -230,16 +232,6 @@ def staging_xy(st: Structure, g: ShellGeometry, L: float, W: float, c: int) -> t
 
 # ---------------------------------------------------------------------------- counting rule
 
-@dataclass(frozen=True)
-class RobotCounts:
-    """Robots (core + shell) by where their centre is, and core rows over the void."""
-
-    n_p: int
-    n_g: int
-    n_o: int
-    core_rows_over: int
-
-
 def shell_counts(shell: tuple, g: ShellGeometry) -> tuple[int, int, int]:
     if not shell:
         return 0, 0, 0
@@ -250,45 +242,10 @@ def shell_counts(shell: tuple, g: ShellGeometry) -> tuple[int, int, int]:
     return p, int(r.size) - p - o, o
 
 
-def counts(front_s: float, rows: np.ndarray, shell_pgo: tuple, L: float, V_cm: float) -> RobotCounts:
-    """``rows``: robots in each core row, front first (the rear row may be partly filled)."""
-    rows = np.asarray(rows)
-    s = front_s - (np.arange(rows.size) + 0.5) * L
-    on_p, on_o = s <= EPS, s >= V_cm - EPS
-    over = ~on_p & ~on_o
-    sp, sg, so = shell_pgo
-    return RobotCounts(int(rows[on_p].sum()) + sp, int(rows[over].sum()) + sg, int(rows[on_o].sum()) + so,
-                       int(np.sum(over & (rows > 0))))
-
-
-def stable(c: RobotCounts, ratio: float, margin: int, span: int) -> bool:
-    if c.core_rows_over > span:
-        return False
-    if c.n_g == 0:
-        return True
-    need = ratio * c.n_g + margin - EPS
-    if c.n_p and c.n_o:
-        return c.n_p + c.n_o >= need
-    if c.n_p:
-        return c.n_p >= need
-    if c.n_o:
-        return c.n_o >= need
-    return False
-
-
-def move_stable(front_from: float, front_to: float, rows: np.ndarray, shell_pgo: tuple,
-                L: float, V_cm: float, ratio: float, margin: int, span: int) -> bool:
-    """The rule at every configuration the core passes through (counts change only where a
-    core row centre crosses an edge: checked just before and after each crossing)."""
-    lo, hi = min(front_from, front_to), max(front_from, front_to)
-    pts = [front_from, front_to]
-    for k in range(len(rows)):
-        for edge in (0.0, V_cm):
-            f = edge + (k + 0.5) * L
-            if lo - EPS <= f <= hi + EPS:
-                pts += [f - 10 * EPS, f + 10 * EPS]
-    return all(stable(counts(f, rows, shell_pgo, L, V_cm), ratio, margin, span)
-               for f in pts if lo - 20 * EPS <= f <= hi + 20 * EPS)
+def counts(front_s: float, rows: np.ndarray, shell_pgo: tuple, L: float, V_cm: float) -> R.Counts:
+    """Robots (core rows, the rear one possibly partly filled, plus the shell) by where their
+    centre is (:func:`swarm_sim.rule.counts` with the rows' robot counts as weights)."""
+    return R.counts(front_s, rows, L, V_cm, shell_pgo)
 
 
 # ---------------------------------------------------------------------------- rule minimum
@@ -313,7 +270,7 @@ def rule_min_robots(stages: list, V: int, entry_front_rows: int, entry_ground_ro
         g = shell_geometry(k, B, V)
         near = tuple(OPEN + 1 if f == NEAR else OPEN for f in g.foot)  # the complete near foot
         pgo = shell_counts(near, g)
-        while not stable(counts(F_end * 1.0, np.full(F_end + G, 2), pgo, 1.0, float(V)), ratio, margin, span):
+        while not R.stable(counts(F_end * 1.0, np.full(F_end + G, 2), pgo, 1.0, float(V)), ratio, margin, span):
             G += 1
         need = max(need, int(np.sum(g.foot == NEAR)) + 2 * (F_end + G))
         F = F_end
@@ -324,7 +281,7 @@ def rule_min_robots(stages: list, V: int, entry_front_rows: int, entry_ground_ro
 
 @dataclass(frozen=True)
 class TaperSituation:
-    counts: RobotCounts
+    counts: R.Counts
     rows: int                 # full core rows
     ground_rows: int          # full core rows with their centre on the initial ground
     foot_rows: int            # k B: core rows kept on each ground while a foot stands
@@ -348,10 +305,6 @@ class TaperSituation:
     supply: bool = True       # a free robot or a near-foot robot can still join the core
 
 
-def _can_recruit(s: TaperSituation) -> bool:
-    return s.free_available and s.rear_on_initial and s.dock_ok
-
-
 #: Building a tapered level: (action, guard), first match wins.
 TAPER_TABLE = (
     ("hold", lambda s: s.job_busy and not s.landed),          # a near-foot round is under way
@@ -359,21 +312,21 @@ TAPER_TABLE = (
     ("advance", lambda s: s.landed and not s.supply and s.can_advance),
     ("release_front", lambda s: s.front_ready and s.stable_without_front and not s.job_busy),
     ("switch", lambda s: s.span_blocked and s.can_switch and not s.filling and not s.job_busy),
-    ("recruit", lambda s: s.filling and _can_recruit(s)),      # single line -> two-line core
+    ("recruit", lambda s: s.filling and S.can_recruit(s)),      # single line -> two-line core
     ("retreat", lambda s: s.filling),
     # the core extends until k B rows stand on the initial ground (thesis: 15 rows for k = 3)
-    ("recruit", lambda s: not s.landed and s.ground_rows < s.foot_rows and _can_recruit(s)),
+    ("recruit", lambda s: not s.landed and s.ground_rows < s.foot_rows and S.can_recruit(s)),
     ("retreat", lambda s: not s.landed and s.ground_rows < s.foot_rows),
     ("fill_near", lambda s: not s.landed and s.near_open and s.free_available and s.fill_ok),
-    ("recruit", lambda s: not s.landed and s.near_open and _can_recruit(s)),  # more counterweight
+    ("recruit", lambda s: not s.landed and s.near_open and S.can_recruit(s)),  # more counterweight
     ("retreat", lambda s: not s.landed and s.near_open),
     ("retreat", lambda s: s.span_blocked),
-    ("recruit", lambda s: s.landed and s.ground_rows <= s.foot_rows and _can_recruit(s)),
+    ("recruit", lambda s: s.landed and s.ground_rows <= s.foot_rows and S.can_recruit(s)),
     # no free robot left: the near foot breaks away into the core's rear (reverse fill order)
     ("unfill_near", lambda s: s.landed and s.near_any and not s.free_available and not s.job_busy
         and s.unfill_ok and s.ground_rows <= s.foot_rows),
     ("advance", lambda s: s.can_advance),
-    ("recruit", lambda s: _can_recruit(s)),
+    ("recruit", lambda s: S.can_recruit(s)),
     ("dissolve_far", lambda s: s.rows == 0 and not s.near_any and s.far_any and not s.job_busy),
     ("hold", lambda s: s.landed or s.job_busy),
     ("retreat", lambda s: True),
@@ -413,8 +366,6 @@ def near_state(shell: tuple, g: ShellGeometry) -> tuple[bool, bool, bool]:
 
 def core_rows(st: Structure) -> np.ndarray:
     """Robots in each core row, front first."""
-    from . import structure as S
-
     k = S.row_size(st)
     mem = np.asarray(st.members, dtype=np.int64)
     if mem.size == 0:
@@ -428,8 +379,6 @@ def situation(st: Structure, p, g: ShellGeometry, free_count: int, row_free: boo
               dock_ok: bool) -> TaperSituation:
     """What a tapered structure knows when idle (``p``: the level's params; ``free_count``
     free robots on the initial side, ``row_free``: enough of them for the core's rear row)."""
-    from . import structure as S
-
     L, V_cm = p.robot_length_cm, p.void_width_cm
     ratio, margin, span = p.ground_ratio, p.ground_margin, p.max_span_widths
     rows = core_rows(st)
@@ -457,22 +406,22 @@ def situation(st: Structure, p, g: ShellGeometry, free_count: int, row_free: boo
     room = st.origin_x_cm + (st.front_s_cm + L) * st.dir_x <= p.arena_w_cm - 1e-6  # the far wall
     can_advance = (n_all > 0 and launch_ok and not partial and not span_blocked and room
                    and (not keep_ground or ground_after >= foot_rows)
-                   and move_stable(st.front_s_cm, st.front_s_cm + L, rows, pgo, L, V_cm, ratio, margin, span))
+                   and R.move_stable(st.front_s_cm, st.front_s_cm + L, rows, L, V_cm, ratio, margin, span, pgo))
     wo_front = counts(st.front_s_cm - L, rows[1:], pgo, L, V_cm)
     wo_rear = counts(st.front_s_cm, rows[:-1], pgo, L, V_cm)
     fill_ok = unfill_ok = False
     if near_open and free:
         grp = next_fill_group(st.shell, g, NEAR)[:free_count]
-        fill_ok = stable(counts(st.front_s_cm, rows, shell_counts(_fill_preview(st.shell, g, grp), g), L, V_cm),
+        fill_ok = R.stable(counts(st.front_s_cm, rows, shell_counts(_fill_preview(st.shell, g, grp), g), L, V_cm),
                          ratio, margin, span)
     if near_any:
         grp = next_unfill_group(st.shell, g, NEAR)
-        unfill_ok = stable(counts(st.front_s_cm, rows, shell_counts(_unfill_preview(st.shell, g, grp), g), L,
+        unfill_ok = R.stable(counts(st.front_s_cm, rows, shell_counts(_unfill_preview(st.shell, g, grp), g), L,
                                   V_cm), ratio, margin, span)
     return TaperSituation(
         c, n_all, ground, foot_rows, st.landed, front_ready, rear_on_initial, free,
         (row_free or not near_any) and dock_ok,
-        can_advance, span_blocked, stable(wo_front, ratio, margin, span), stable(wo_rear, ratio, margin, span),
+        can_advance, span_blocked, R.stable(wo_front, ratio, margin, span), R.stable(wo_rear, ratio, margin, span),
         fill, bool(p.switch_levels) and st.level + 1 < len(p.switch_levels), bool(st.job), near_open, near_any,
         far_any, fill_ok, unfill_ok, supply)
 
@@ -480,8 +429,4 @@ def situation(st: Structure, p, g: ShellGeometry, free_count: int, row_free: boo
 def decide(st: Structure, p, g: ShellGeometry, free_count: int, row_free: bool,
            dock_ok: bool) -> tuple[str, TaperSituation]:
     s = situation(st, p, g, free_count, row_free, dock_ok)
-    table = TAPER_RETREAT_TABLE if st.retreating else TAPER_TABLE
-    for action, guard in table:
-        if guard(s):
-            return action, s
-    raise AssertionError("taper table has no default row")  # pragma: no cover
+    return S.first_match(TAPER_RETREAT_TABLE if st.retreating else TAPER_TABLE, s), s

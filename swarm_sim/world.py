@@ -7,7 +7,8 @@ All functions are vectorised over robots. The void is the vertical band
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -39,6 +40,12 @@ class World:
                    p.void_x1_cm if void else math.inf, p.robot_length_cm, p.robot_width_cm,
                    p.shape, p.void_detect_cm, p.avoid_cm, obs, p.target_x_cm, p.target_y_cm,
                    p.target_found_cm)
+
+    @cached_property
+    def without_obstacles(self) -> World:
+        """The same arena with no obstacles: where the structure and a robot docking into it
+        stand (the thesis's assumption 13: the moving structure ignores obstacles)."""
+        return replace(self, obstacles=np.zeros((0, 3)))
 
     @property
     def body_radius_cm(self) -> float:

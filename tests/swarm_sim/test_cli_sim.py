@@ -60,12 +60,21 @@ def test_run_writes_gif_snapshots_and_json_under_out(cli, tmp_path):
     assert not list(tmp_path.glob(".*"))  # no temporary files left behind
 
 
-def test_soak_reports_zero_violations(cli):
-    res = cli("sim", "soak", "--runs", "3", "--max-time", "15", "--json")
+def test_soak_runs_whole_runs_and_reports_zero_timeouts_violations_and_losses(cli):
+    res = cli("sim", "soak", "--runs", "3", "--json")
     assert res.code == 0, res.err + res.out
     d = res.json()
-    assert d["runs"] == 3 and d["n_violations"] == 0 and d["robots_lost"] == 0
+    assert d["runs"] == 3 and d["whole_runs"] and d["limits"] == ["derived", "thesis"]
+    assert d["timeouts"] == 0 and d["n_violations"] == 0 and d["robots_lost"] == 0 and d["errors"] == 0
     assert cli("sim", "soak", "--runs", "0").code == 2
+    bad = cli("sim", "soak", "--runs", "2", "--limits", "nosuch")
+    assert bad.code == 2 and "nosuch" in bad.err
+
+
+def test_soak_counts_a_run_cut_by_the_guard_as_a_timeout_and_fails(cli):
+    res = cli("sim", "soak", "--runs", "2", "--max-time", "3", "--json")
+    assert res.code == 1
+    assert res.json()["timeouts"] >= 1
 
 
 def test_bench_json_fields(cli):

@@ -6,6 +6,7 @@ from dataclasses import replace
 
 import pytest
 
+from swarm_sim import rule as R
 from swarm_sim import structure as S
 from swarm_sim.params import Params
 from swarm_sim.state import Structure
@@ -13,34 +14,34 @@ from swarm_sim.state import Structure
 THESIS = replace(Params(), ground_ratio=2.0, ground_margin=0, max_span_widths=5)
 
 
-def counts(front_widths: float, n: int, w: int) -> S.Counts:
+def counts(front_widths: float, n: int, w: int) -> R.Counts:
     return S.counts_at(front_widths * 10.0, n, 10.0, w * 10.0)
 
 
 def test_counts_by_centre_of_mass():
-    assert counts(0, 3, 1) == S.Counts(3, 0, 0)
-    assert counts(1, 3, 1) == S.Counts(2, 1, 0)
-    assert counts(2, 3, 1) == S.Counts(1, 1, 1)
-    assert counts(3, 3, 1) == S.Counts(0, 1, 2)
-    assert counts(3.4, 3, 2) == S.Counts(0, 2, 1)   # centres at 2.9, 1.9, 0.9 widths
+    assert counts(0, 3, 1) == R.Counts(3, 0, 0)
+    assert counts(1, 3, 1) == R.Counts(2, 1, 0)
+    assert counts(2, 3, 1) == R.Counts(1, 1, 1)
+    assert counts(3, 3, 1) == R.Counts(0, 1, 2)
+    assert counts(3.4, 3, 2) == R.Counts(0, 2, 1)   # centres at 2.9, 1.9, 0.9 widths
 
 
 @pytest.mark.parametrize("c,ok", [
-    (S.Counts(2, 1, 0), True), (S.Counts(1, 1, 0), False),        # n_p = 2 n_g to hold the cantilever
-    (S.Counts(6, 3, 0), True), (S.Counts(5, 3, 0), False),
-    (S.Counts(3, 3, 3), True), (S.Counts(2, 3, 3), False),        # bridged: n_p = n_g = n_o
-    (S.Counts(0, 2, 4), True), (S.Counts(0, 2, 3), False),        # cantilever from the target side
-    (S.Counts(0, 1, 0), False), (S.Counts(4, 0, 0), True),
+    (R.Counts(2, 1, 0), True), (R.Counts(1, 1, 0), False),        # n_p = 2 n_g to hold the cantilever
+    (R.Counts(6, 3, 0), True), (R.Counts(5, 3, 0), False),
+    (R.Counts(3, 3, 3), True), (R.Counts(2, 3, 3), False),        # bridged: n_p = n_g = n_o
+    (R.Counts(0, 2, 4), True), (R.Counts(0, 2, 3), False),        # cantilever from the target side
+    (R.Counts(0, 1, 0), False), (R.Counts(4, 0, 0), True),
 ])
 def test_thesis_rule(c, ok):
-    assert S.stable(c, THESIS) is ok
+    assert R.stable(c, *THESIS.rule) is ok
 
 
 def test_rule_moves_with_the_limits():
-    assert not S.stable(S.Counts(3, 2, 0), THESIS)
-    assert S.stable(S.Counts(3, 2, 0), replace(THESIS, ground_ratio=1.0, ground_margin=1))
-    assert not S.stable(S.Counts(4, 1, 0), replace(THESIS, ground_margin=3))
-    assert not S.stable(S.Counts(20, 6, 0), THESIS)                      # wider than the line may span
+    assert not R.stable(R.Counts(3, 2, 0), *THESIS.rule)
+    assert R.stable(R.Counts(3, 2, 0), *replace(THESIS, ground_ratio=1.0, ground_margin=1).rule)
+    assert not R.stable(R.Counts(4, 1, 0), *replace(THESIS, ground_margin=3).rule)
+    assert not R.stable(R.Counts(20, 6, 0), *THESIS.rule)                      # wider than the line may span
 
 
 def line(n: int, front_widths: float, landed=False, retreating=False) -> Structure:
@@ -85,6 +86,6 @@ def test_span_limit_forces_retreat():
 
 def test_moves_checked_through_every_intermediate_configuration():
     p = params(1)
-    assert S.move_stable(0.0, 10.0, 3, p)
-    assert not S.move_stable(0.0, 10.0, 2, p)
-    assert S.move_stable(10.0, 20.0, 3, p)          # (2,1,0) -> (1,1,1)
+    assert R.move_stable(0.0, 10.0, 3, 10.0, p.void_width_cm, *p.rule)
+    assert not R.move_stable(0.0, 10.0, 2, 10.0, p.void_width_cm, *p.rule)
+    assert R.move_stable(10.0, 20.0, 3, 10.0, p.void_width_cm, *p.rule)          # (2,1,0) -> (1,1,1)

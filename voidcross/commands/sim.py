@@ -32,9 +32,13 @@ To target search, Td retreat and disassembly, Tb wander after a retreat, Tt tota
 
 SOAK_EPILOG = """examples:
   voidcross sim soak --runs 200 --json
-  voidcross sim soak --runs 1000 --max-time 30 --seed 7
-Each run draws case, swarm size, void width, arena size and seed, checks every invariant
-after every step, and every violation is reported with the draw that caused it.
+  voidcross sim soak --runs 10000 --workers 2 --json
+  voidcross sim soak --runs 500 --limits thesis --seed 7
+Each run draws a preset (every shipped one), limits (derived and thesis), swarm size around
+the rule minimum, void width, arena, obstacles, structure and seed, and runs to its end
+(crossed or retreated) with every invariant checked after every step. Timeouts (the time
+limit is only a guard), violations, lost robots and crashes are counted apart, each
+reported with the draw that caused it. Exit 1 if any was found.
 """
 
 BENCH_EPILOG = """examples:
@@ -118,8 +122,13 @@ def run(args: argparse.Namespace) -> int:
             files.append(str(target))
     payload["files"] = files
     t = res.times
+    why = {"retreated-no-robots": "too few robots for this void",
+           "retreated-span": "the far ledge is beyond the widest structure's span",
+           "retreated-stalled": "no free robot could reach the dock",
+           "retreated-blocked": "the rear dock point is off the arena",
+           "retreated-no-room": "no room for the tapering arch's feet"}.get(res.end_reason or "", "")
     outcome = "SUCCESS: crossed and found the target" if res.success else (
-        "RETREATED: too few robots for this void; all back on the initial side" if res.retreated
+        f"RETREATED ({res.end_reason}): {why}; all back on the initial side" if res.retreated
         else "TIMEOUT: still running at --max-time")
     fmt = lambda v: "-" if v is None else f"{v:.2f}"  # noqa: E731
     human = (f"{p.preset} N={p.robots} void={p.void_width} widths seed={args.seed} limits={p.limits_source} "
@@ -144,17 +153,22 @@ def run(args: argparse.Namespace) -> int:
 
 
 def soak(args: argparse.Namespace) -> int:
+    from swarm_sim.soak import LIMITS
     from swarm_sim.soak import soak as do_soak
 
-    rep = do_soak(args.runs, seed=args.seed, max_time_s=args.max_time, limits=args.limits,
+    limits = LIMITS if args.limits == "both" else (args.limits,)
+    rep = do_soak(args.runs, seed=args.seed, max_time_s=args.max_time, limits=limits, workers=args.workers,
                   progress=lambda it, n: progress(it, "soak", n))
-    human = (f"{rep['runs']} randomised runs ({args.max_time:g} s each, limits {args.limits}): "
-             f"{rep['n_violations']} invariant violations, {rep['robots_lost']} robots lost, "
-             f"{rep['skipped_invalid']} draws rejected as invalid input; outcomes {rep['outcomes']}")
-    for v in rep["violations"][:20]:
+    guard = "the presets' time-limit guards" if args.max_time is None else f"capped at {args.max_time:g} s"
+    reasons = ", ".join(f"{k} {v}" for k, v in sorted(rep["end_reasons"].items())) or "none"
+    human = (f"{rep['runs']} randomised whole runs (limits {', '.join(rep['limits'])}; {guard}) in "
+             f"{rep['wall_s']:.0f} s wall: {rep['timeouts']} timeouts, {rep['n_violations']} invariant violations, "
+             f"{rep['robots_lost']} robots lost, {rep['errors']} runs raised, {rep['skipped_invalid']} draws "
+             f"rejected as invalid input\nended: {reasons}; {rep['hand_overs']} recruits handed over")
+    for v in (rep["violations"][:10] + rep["timeout_draws"][:10] + rep["error_draws"][:10]):
         human += f"\n  {v}"
     emit(args, rep, human)
-    return 1 if rep["n_violations"] or rep["robots_lost"] else 0
+    return 1 if rep["n_violations"] or rep["robots_lost"] or rep["timeouts"] or rep["errors"] else 0
 
 
 def bench(args: argparse.Namespace) -> int:
@@ -210,12 +224,15 @@ def register(sub, common) -> None:
     r.add_argument("--out", default=None, help="output directory (default results/sim when writing files)")
     r.set_defaults(func=run)
 
-    s = ss.add_parser("soak", parents=[common], help="many randomised short runs; reports every violation",
-                      formatter_class=argparse.RawDescriptionHelpFormatter, epilog=SOAK_EPILOG)
-    s.add_argument("--runs", type=int, default=100)
-    s.add_argument("--seed", type=int, default=0)
-    s.add_argument("--max-time", type=float, default=60.0, help="simulated s per run (default 60)")
-    s.add_argument("--limits", default="thesis", help="derived | thesis | path (default thesis)")
+    s = ss.add_parser("soak", parents=[common], help="many randomised whole runs; reports timeouts, violations, "
+                      "lost robots", formatter_class=argparse.RawDescriptionHelpFormatter, epilog=SOAK_EPILOG)
+    s.add_argument("--runs", type=int, default=100, help="number of random draws (default 100)")
+    s.add_argument("--seed", type=int, default=0, help="seed of the draws (default 0)")
+    s.add_argument("--max-time", type=float, default=None,
+                   help="cap every run at this many simulated s (default: each preset's guard; a run that "
+                        "reaches it counts as a timeout)")
+    s.add_argument("--limits", default="both", help="both | derived | thesis | path (default both)")
+    s.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
     s.set_defaults(func=soak)
 
     b = ss.add_parser("bench", parents=[common], help="exploration-only throughput and scaling",

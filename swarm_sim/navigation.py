@@ -1,0 +1,256 @@
+"""Path planning on the static map: an occupancy grid and cost-to-go fields (cm).
+
+A robot called to the structure (a recruit, a foot-column robot) does not only steer
+locally: it follows the shortest path on a grid of the arena whose free cells are the
+places where its whole body can turn on the spot (the circumscribed disc of radius
+:attr:`World.body_radius_cm` clears the walls, the obstacles, the void and the
+structure's own robots). One Dijkstra search from the goal (``scipy.sparse.csgraph``)
+gives every cell its path length to the goal and the next cell towards it, so:
+
+* choosing "the closest free robot" means the shortest *path*, not the straight line
+  (a robot behind an obstacle, or on the wrong side of the structure, is farther);
+* a robot with no path (``inf``) is never called;
+* following the path is a table look-up per step (:func:`waypoint`).
+
+Cell size is a third of the robot's smaller side (see :data:`MAX_CELLS`). The grid of a world is built once
+(:func:`nav_grid`, cached); a field is cached by its goal cell and the structure's
+footprint, so the robots recruited for one row share the work.
+
+The moving structure itself ignores obstacles (the thesis's assumption 13, Ch. 4.4):
+only the robots that drive to it plan around them.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import OrderedDict
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import dijkstra
+
+from .world import World
+
+#: edges into a blocked cell get this weight; a cost above :data:`BLOCKED` is "no path"
+_BLOCK_W = 1e9
+BLOCKED = 1e8
+_HOPS = 3  # the waypoint is this many cells ahead on the path
+#: the grid's cells are a third of the robot's smaller side, coarser only in arenas that
+#: would need more cells than this (the large-void arenas, which have no obstacles)
+MAX_CELLS = 100_000
+
+
+@dataclass(frozen=True, eq=False)
+class NavGrid:
+    """Occupancy grid of a world: ``ny x nx`` cells of ``cell_cm``, flattened row-major."""
+
+    cell_cm: float
+    nx: int
+    ny: int
+    clearance_cm: float
+    free: np.ndarray        # bool (ny*nx,): static free cells (walls, obstacles, void)
+    cx: np.ndarray          # cell centres (cm), (ny*nx,)
+    cy: np.ndarray
+    ei: np.ndarray          # undirected edges between 8-neighbours, both ends static-free
+    ej: np.ndarray
+    ew: np.ndarray          # edge length (cm)
+    window: int = 3         # cells searched around a robot standing in a closed cell
+
+    def cell(self, x: float, y: float) -> int:
+        i = min(self.nx - 1, max(0, int(x // self.cell_cm)))
+        j = min(self.ny - 1, max(0, int(y // self.cell_cm)))
+        return j * self.nx + i
+
+    def cells(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        i = np.clip((np.asarray(x) // self.cell_cm).astype(np.int64), 0, self.nx - 1)
+        j = np.clip((np.asarray(y) // self.cell_cm).astype(np.int64), 0, self.ny - 1)
+        return j * self.nx + i
+
+
+_GRIDS: OrderedDict = OrderedDict()
+_FIELDS: OrderedDict = OrderedDict()
+
+
+def _world_key(world: World) -> tuple:
+    return (world.w_cm, world.h_cm, world.x0_cm, world.x1_cm, world.length_cm, world.width_cm, world.shape,
+            world.obstacles.tobytes())
+
+
+def _clear_of_world(world: World, x: np.ndarray, y: np.ndarray, r: float) -> np.ndarray:
+    """A disc of radius ``r`` (cm) at (x, y) clears the walls, the void and the obstacles."""
+    ok = (x - r >= 0) & (x + r <= world.w_cm) & (y - r >= 0) & (y + r <= world.h_cm)
+    if math.isfinite(world.x0_cm):
+        ok &= ~((x + r > world.x0_cm + 1e-9) & (x - r < world.x1_cm - 1e-9))
+    for ox, oy, orad in world.obstacles:
+        ok &= (x - ox) ** 2 + (y - oy) ** 2 > (orad + r) ** 2
+    return ok
+
+
+def disc_clear(world: World, x: float, y: float) -> bool:
+    """A robot at (x, y) can turn on the spot without touching a wall, the void or an obstacle."""
+    return bool(_clear_of_world(world, np.array([x]), np.array([y]), world.body_radius_cm)[0])
+
+
+def nav_grid(world: World) -> NavGrid:
+    """The world's grid (built once per world geometry)."""
+    key = _world_key(world)
+    g = _GRIDS.get(key)
+    if g is not None:
+        _GRIDS.move_to_end(key)
+        return g
+    cell = max(min(world.length_cm, world.width_cm) / 3.0, math.sqrt(world.w_cm * world.h_cm / MAX_CELLS))
+    nx, ny = max(1, math.ceil(world.w_cm / cell)), max(1, math.ceil(world.h_cm / cell))
+    jj, ii = np.divmod(np.arange(nx * ny), nx)
+    cx, cy = (ii + 0.5) * cell, (jj + 0.5) * cell
+    r = world.body_radius_cm
+    free = _clear_of_world(world, cx, cy, r)
+    idx = np.arange(nx * ny).reshape(ny, nx)
+    f2 = free.reshape(ny, nx)
+    ei, ej, ew = [], [], []
+    for dy, dx, w in ((0, 1, 1.0), (1, 0, 1.0), (1, 1, math.sqrt(2)), (1, -1, math.sqrt(2))):
+        xa, xb = max(0, -dx), nx - max(0, dx)
+        a, b = idx[0:ny - dy, xa:xb], idx[dy:ny, xa + dx:xb + dx]
+        m = f2[0:ny - dy, xa:xb] & f2[dy:ny, xa + dx:xb + dx]
+        if dx and dy:  # no diagonal through a blocked corner
+            m &= f2[0:ny - dy, xa + dx:xb + dx] & f2[dy:ny, xa:xb]
+        ei.append(a[m])
+        ej.append(b[m])
+        ew.append(np.full(int(m.sum()), w * cell))
+    window = math.ceil((world.length_cm + world.width_cm) / cell) + 2
+    g = NavGrid(cell, nx, ny, r, free, cx, cy, np.concatenate(ei), np.concatenate(ej), np.concatenate(ew), window)
+    _GRIDS[key] = g
+    while len(_GRIDS) > 8:
+        _GRIDS.popitem(last=False)
+    return g
+
+
+def footprint_mask(grid: NavGrid, cx: np.ndarray, cy: np.ndarray, half_x: float, half_y: float) -> np.ndarray:
+    """Cells whose centre is within ``half_x`` / ``half_y`` (cm) of a robot standing at (cx, cy)
+    (the structure's members; the caller adds the moving robot's own half size)."""
+    blocked = np.zeros(grid.nx * grid.ny, dtype=bool)
+    if len(cx) == 0:
+        return blocked
+    b2 = blocked.reshape(grid.ny, grid.nx)
+    rx, ry = half_x, half_y
+    c = grid.cell_cm
+    # the structure's robots stand in rows and lines: merge them into runs of a rectangle each
+    i0 = np.clip(np.floor((np.asarray(cx) - rx) / c - 0.5).astype(np.int64) + 1, 0, grid.nx)
+    i1 = np.clip(np.ceil((np.asarray(cx) + rx) / c - 0.5).astype(np.int64), 0, grid.nx)
+    j0 = np.clip(np.floor((np.asarray(cy) - ry) / c - 0.5).astype(np.int64) + 1, 0, grid.ny)
+    j1 = np.clip(np.ceil((np.asarray(cy) + ry) / c - 0.5).astype(np.int64), 0, grid.ny)
+    for box in set(zip(i0.tolist(), i1.tolist(), j0.tolist(), j1.tolist(), strict=True)):
+        a, b, d, e = box
+        b2[d:e, a:b] = True
+    return blocked
+
+
+@dataclass(frozen=True, eq=False)
+class CostField:
+    """Path length (cm) from every cell to the goal cell, and the next cell on that path."""
+
+    grid: NavGrid
+    goal_x: float
+    goal_y: float
+    goal_cell: int
+    cost: np.ndarray     # (cells,) cm; > BLOCKED: no path
+    nxt: np.ndarray      # (cells,) next cell towards the goal (-9999 at the goal / no path)
+    closed: np.ndarray   # (cells,) bool: cells a turning robot cannot occupy
+
+    def cost_at(self, x: float, y: float) -> float:
+        """Path length (cm) from a robot at (x, y): its cell's, or (next to a wall) the best
+        neighbouring cell's plus the step to it; ``inf`` when there is no path."""
+        c = self.grid.cell(x, y)
+        v = float(self.cost[c])
+        if v < BLOCKED:
+            return v + math.hypot(x - self.grid.cx[c], y - self.grid.cy[c])
+        if not self.closed[c]:
+            return math.inf  # an open cell with no path: walled in
+        best, _ = self._near(x, y)
+        return best
+
+    def costs(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """:meth:`cost_at` for many robots."""
+        return np.array([self.cost_at(float(a), float(b)) for a, b in zip(x, y, strict=True)])
+
+    def _near(self, x: float, y: float) -> tuple[float, int]:
+        """Best open cell within :attr:`NavGrid.window` cells (path cost plus the straight step
+        to it): for a robot standing where the grid is closed (by a wall, or among the
+        structure's robots after stepping off a foot)."""
+        g = self.grid
+        i, j = min(g.nx - 1, max(0, int(x // g.cell_cm))), min(g.ny - 1, max(0, int(y // g.cell_cm)))
+        j0, j1, i0, i1 = max(0, j - g.window), min(g.ny, j + g.window + 1), max(0, i - g.window), \
+            min(g.nx, i + g.window + 1)
+        idx = (np.arange(j0, j1)[:, None] * g.nx + np.arange(i0, i1)[None, :]).ravel()
+        v = self.cost[idx]
+        v = np.where(v < BLOCKED, v + np.hypot(x - g.cx[idx], y - g.cy[idx]), np.inf)
+        k = int(np.argmin(v))
+        return (float(v[k]), int(idx[k])) if np.isfinite(v[k]) else (math.inf, -1)
+
+    def waypoint(self, x: float, y: float) -> tuple[float, float] | None:
+        """Where a robot at (x, y) drives next: a cell a few hops ahead on its path, the goal
+        point once the path reaches the goal cell, ``None`` when there is no path."""
+        g = self.grid
+        c = g.cell(x, y)
+        if self.cost[c] >= BLOCKED:
+            if not self.closed[c]:
+                return None
+            _, c = self._near(x, y)
+            if c < 0:
+                return None
+            return float(g.cx[c]), float(g.cy[c])
+        for _ in range(_HOPS):
+            if c == self.goal_cell:
+                return self.goal_x, self.goal_y
+            c = int(self.nxt[c])
+            if c < 0:
+                return self.goal_x, self.goal_y
+        if c == self.goal_cell:
+            return self.goal_x, self.goal_y
+        return float(g.cx[c]), float(g.cy[c])
+
+
+def cost_field(world: World, goal_x: float, goal_y: float, blocked=None, blocked_key: bytes = b"") -> CostField:
+    """The field towards (goal_x, goal_y) cm with ``blocked`` cells (the structure) closed:
+    a bool mask over the cells, or a function returning it (called only when the field for
+    ``blocked_key`` is not cached yet).
+
+    The goal's own cell is always open (a staging point chosen by
+    :func:`approach_point` may sit closer to a wall than the grid's clearance)."""
+    grid = nav_grid(world)
+    gc = grid.cell(goal_x, goal_y)
+    key = (_world_key(world), gc, round(goal_x, 6), round(goal_y, 6), blocked_key)
+    f = _FIELDS.get(key)
+    if f is not None:
+        _FIELDS.move_to_end(key)
+        return f
+    n = grid.nx * grid.ny
+    closed = ~grid.free.copy()
+    if callable(blocked):
+        blocked = blocked()
+    if blocked is not None:
+        closed |= blocked
+    closed[gc] = False
+    w = grid.ew + _BLOCK_W * (closed[grid.ei] | closed[grid.ej])
+    # the goal cell joins its open neighbours even when the static grid calls it blocked
+    extra_i, extra_j, extra_w = [], [], []
+    if not grid.free[gc]:
+        gi, gj = gc % grid.nx, gc // grid.nx
+        for dj in (-1, 0, 1):
+            for di in (-1, 0, 1):
+                ii, jj = gi + di, gj + dj
+                if (di or dj) and 0 <= ii < grid.nx and 0 <= jj < grid.ny and not closed[jj * grid.nx + ii]:
+                    extra_i.append(gc)
+                    extra_j.append(jj * grid.nx + ii)
+                    extra_w.append(math.hypot(di, dj) * grid.cell_cm)
+    ei = np.concatenate([grid.ei, np.array(extra_i, dtype=np.int64)])
+    ej = np.concatenate([grid.ej, np.array(extra_j, dtype=np.int64)])
+    ww = np.concatenate([w, np.array(extra_w)])
+    graph = csr_matrix((ww, (ei, ej)), shape=(n, n))
+    cost, pred = dijkstra(graph, directed=False, indices=gc, return_predecessors=True, limit=BLOCKED)
+    cost = np.where(np.isfinite(cost), cost, np.inf)
+    f = CostField(grid, float(goal_x), float(goal_y), gc, cost, pred.astype(np.int64), closed)
+    _FIELDS[key] = f
+    while len(_FIELDS) > 64:
+        _FIELDS.popitem(last=False)
+    return f

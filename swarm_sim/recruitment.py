@@ -1,0 +1,269 @@
+"""Recruitment: calling free robots to the structure's rear and bringing them in to dock.
+
+* **Who is called.** For each open rear slot, the free robot (``mode == EXPLORE``) with the
+  shortest *path* to the slot's approach point (:mod:`swarm_sim.navigation`: walls,
+  obstacles, the void and the structure's robots are in the way), never one that already
+  failed to reach this dock (``Structure.passed_over``, cleared by the next dock). A robot
+  with no path is never called. A row is recruited whole (Ch. 5.4, assumption 5).
+* **The approach.** The recruit follows its path to the approach point, up to
+  :data:`STAGE_BACK_L` robot lengths straight behind the dock point (nearer when an
+  obstacle or a wall is in the way, see :func:`approach_point`), turns to the structure's
+  heading and drives straight in (the IR-guided docking of Ch. 3, as an exact placement).
+  The thesis's assumption 13 (Ch. 4.4: obstacles met while the structure moves are
+  ignored, it cannot be steered) is honoured explicitly: the structure, its dock points
+  and the last straight drive in are checked against the walls and the void only
+  (:attr:`World.without_obstacles`); everything before it avoids the obstacles.
+* **Hand-over.** A recruit whose remaining path has not shortened by half a grid cell for
+  ``recruit_stall_s`` is released (it walks again) and the next closest free robot is
+  called for its slot. When no free robot is left that can be called, the recruitment is
+  called off and the structure retreats (``why = "stalled"``; :mod:`swarm_sim.retreat`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from . import structure as S
+from .motion import drive_along, goto
+from .navigation import BLOCKED, CostField, cost_field, disc_clear, footprint_mask, nav_grid
+from .params import Params
+from .state import OPEN, Mode, Structure
+from .tick import Tick
+from .world import World
+
+_EXPLORE, _RECRUIT, _MEMBER = int(Mode.EXPLORE), int(Mode.RECRUIT), int(Mode.MEMBER)
+
+#: the approach starts at most this many robot lengths straight behind the dock point
+STAGE_BACK_L = 2.0
+
+
+_APPROACH: dict = {}
+
+
+def approach_point(world: World, dock_x: float, dock_y: float, dir_x: float, dir_y: float,
+                   L: float) -> tuple[float, float]:
+    """Where a recruit turns onto the structure's axis: the farthest point up to
+    ``STAGE_BACK_L`` lengths behind the dock point where it can turn on the spot (clear of
+    walls, obstacles, the void and of the structure's rear robot one length ahead of the
+    dock point) and from which the straight drive in is clear (cm). Nearer points, where
+    turning grazes the rear robot, only when there is none; the dock point itself last."""
+    key = (id(world), dock_x, dock_y, dir_x, dir_y, L)
+    hit = _APPROACH.get(key)
+    if hit is not None and hit[0] is world:
+        return hit[1]
+    if len(_APPROACH) > 4096:
+        _APPROACH.clear()
+    out = _approach_point(world, dock_x, dock_y, dir_x, dir_y, L)
+    _APPROACH[key] = (world, out)
+    return out
+
+
+def _approach_point(world: World, dock_x: float, dock_y: float, dir_x: float, dir_y: float,
+                    L: float) -> tuple[float, float]:
+    heading = math.atan2(dir_y, dir_x)
+    steps = 32
+    b_clear = world.body_radius_cm + 0.5 * world.length_cm - L  # turning clears the rear robot
+    ok = []
+    for i in range(steps, 0, -1):
+        b = STAGE_BACK_L * L * i / steps
+        ax, ay = dock_x - b * dir_x, dock_y - b * dir_y
+        if not disc_clear(world, ax, ay):
+            continue
+        n = max(2, int(b) + 1)
+        free = world.without_obstacles  # docking is part of the structure: assumption 13
+        if all(free.pose_ok1(ax + (dock_x - ax) * k / n, ay + (dock_y - ay) * k / n, heading)
+               for k in range(n + 1)):
+            if b >= b_clear:
+                return ax, ay
+            ok.append((ax, ay))
+    return ok[0] if ok else (dock_x, dock_y)
+
+
+def footprint(st: Structure, p: Params, world: World):
+    """The structure's core robots as closed grid cells (a function computing the mask, for
+    :func:`~swarm_sim.navigation.cost_field`) and a key naming them (for its cache)."""
+    _, slots = S.occupied(st)
+    mx, my, _ = S.member_poses(st, p.robot_length_cm, p.robot_width_cm, slots)
+    mx, my = np.atleast_1d(mx), np.atleast_1d(my)
+    key = np.round(np.stack([mx, my]), 3).tobytes()
+    # a robot's centre stays a body's size away from a member's (they would touch)
+    reach = 0.5 * (p.robot_length_cm + p.robot_width_cm) - 0.5
+    return (lambda: footprint_mask(nav_grid(world), mx, my, reach, reach)), key
+
+
+def slot_field(st: Structure, p: Params, world: World, slot: int) -> tuple[CostField, float, float]:
+    """The cost field towards slot ``slot``'s approach point, and the dock point (cm)."""
+    dx, dy, _, _ = S.slot_pose(st, slot, p.robot_length_cm, p.robot_width_cm)
+    ax, ay = approach_point(world, dx, dy, st.dir_x, st.dir_y, p.robot_length_cm)
+    mask, key = footprint(st, p, world)
+    return cost_field(world, ax, ay, mask, key), dx, dy
+
+
+def path_costs(field: CostField, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Path length (cm) of each robot to the field's goal (``inf``: no path)."""
+    if len(x) == 0:
+        return np.zeros(0)
+    g = field.grid
+    c = g.cells(x, y)
+    v = field.cost[c] + np.hypot(x - g.cx[c], y - g.cy[c])
+    bad = (field.cost[c] >= BLOCKED) & field.closed[c]
+    for i in np.flatnonzero(bad):
+        v[i] = field.cost_at(float(x[i]), float(y[i]))
+    return np.where(v >= BLOCKED, np.inf, v)
+
+
+def closest(fields: list[CostField], pool: list[int], x: np.ndarray, y: np.ndarray) -> list[int]:
+    """For each field in turn, the robot of ``pool`` with the shortest path to its goal (each
+    robot once); stops at the first field no remaining robot can reach."""
+    pool = list(pool)
+    chosen: list[int] = []
+    for f in fields:
+        if not pool:
+            break
+        d = path_costs(f, x[pool], y[pool])
+        i = int(np.argmin(d))
+        if not np.isfinite(d[i]):
+            break
+        chosen.append(int(pool.pop(i)))
+    return chosen
+
+
+def candidates(tk: Tick) -> np.ndarray:
+    """Free robots that may be called (not passed over for this dock)."""
+    free = tk.mode == _EXPLORE
+    if tk.st is not None and tk.st.passed_over:
+        free[list(tk.st.passed_over)] = False
+    return np.flatnonzero(free)
+
+
+def call(tk: Tick, slot_ids: list[int]) -> list[int]:
+    """Call the closest free robots to ``slot_ids`` (fewer when fewer can reach them); the
+    structure's action becomes ``recruit``."""
+    st, p = tk.st, tk.p
+    fields = [slot_field(st, p, tk.world, q)[0] for q in slot_ids]
+    chosen = closest(fields, list(candidates(tk)), tk.x, tk.y)
+    if not chosen:
+        return chosen
+    tk.mode[chosen] = _RECRUIT
+    n = len(chosen)
+    tk.st = replace(st, action="recruit", recruits=tuple(chosen), recruit_slots=tuple(slot_ids[:n]),
+                    recruit_since_s=tk.t, recruit_best_cm=(math.inf,) * n, recruit_progress_s=(tk.t,) * n)
+    tk.ev("recruit", chosen[0], n=len(st.members), robots=chosen)
+    return chosen
+
+
+def _on_axis(st: Structure, rx: float, ry: float, dxp: float, dyp: float) -> bool:
+    return (abs((ry - dyp) * st.dir_x - (rx - dxp) * st.dir_y) < 1e-6
+            and (dxp - rx) * st.dir_x + (dyp - ry) * st.dir_y >= -1e-6)
+
+
+def approach(tk: Tick) -> None:
+    """The ``recruit`` action, one step: every recruit drives towards its dock point; a
+    stalled one is handed over; when all have arrived they dock (:func:`dock`)."""
+    st, p, world = tk.st, tk.p, tk.world
+    dir_h = math.atan2(st.dir_y, st.dir_x)
+    arrived_all = True
+    best, since = list(st.recruit_best_cm), list(st.recruit_progress_s)
+    stalled: list[int] = []
+    half_cell = 0.5 * nav_grid(world).cell_cm
+    for i, (r, slot) in enumerate(zip(st.recruits, st.recruit_slots, strict=True)):
+        field, dxp, dyp = slot_field(st, p, world, slot)
+        rx, ry, rh = float(tk.x[r]), float(tk.y[r]), float(tk.h[r])
+        if rx == dxp and ry == dyp and rh == dir_h:
+            continue
+        arrived_all = False
+        if _on_axis(st, rx, ry, dxp, dyp):
+            # the drive in is part of the structure, which ignores obstacles (assumption 13)
+            nx, ny, nh, arrived = goto(rx, ry, rh, dxp, dyp, p, world.without_obstacles, final_heading=dir_h,
+                                       align_h=dir_h)
+            if arrived and math.hypot(nx - dxp, ny - dyp) < 1e-9:
+                nx, ny, nh = dxp, dyp, dir_h
+            left = math.hypot(nx - dxp, ny - dyp)
+        else:
+            nx, ny, nh, _ = drive_along(field, rx, ry, rh, p, world, final_heading=dir_h, align_h=dir_h)
+            left = field.cost_at(nx, ny) + math.hypot(field.goal_x - dxp, field.goal_y - dyp)
+        tk.x[r], tk.y[r], tk.h[r] = nx, ny, nh
+        if left < best[i] - half_cell:
+            best[i], since[i] = left, tk.t
+            tk.progress()
+        elif tk.t - since[i] > p.recruit_stall_s:
+            stalled.append(i)
+    tk.st = replace(tk.st, recruit_best_cm=tuple(best), recruit_progress_s=tuple(since))
+    if arrived_all:
+        dock(tk)
+    for i in stalled:
+        if not hand_over(tk, i):
+            return
+
+
+def dock(tk: Tick) -> None:
+    """All recruits are at their dock points: they join the structure."""
+    st = tk.st
+    if S.filling(st):
+        # a new line/layer grows from the rear: its robots slide forward one row along the
+        # core and the recruit takes the rear slot (kinematic)
+        members = list(st.members)
+        k = S.row_size(st)
+        for r, slot in zip(st.recruits, st.recruit_slots, strict=True):
+            col = members[slot % k::k]
+            members[slot % k::k] = col[1:] + [r]
+        members = tuple(members)
+    else:
+        members = st.members + st.recruits
+    tk.mode[list(st.recruits)] = _MEMBER
+    tk.ev("dock", st.recruits[0], index=len(members), robots=list(st.recruits))
+    tk.st = replace(st, members=members, recruits=(), recruit_slots=(), recruit_best_cm=(), recruit_progress_s=(),
+                    passed_over=(), action="idle", progress_s=tk.t)
+
+
+def hand_over(tk: Tick, i: int) -> bool:
+    """Recruit ``i`` made no progress: release it and call the next closest free robot for its
+    slot. False (and the recruitment called off, the structure retreating) when none can come."""
+    from .retreat import start_retreat
+
+    st = tk.st
+    r, slot = st.recruits[i], st.recruit_slots[i]
+    tk.mode[r] = _EXPLORE
+    tk.st = st = replace(st, passed_over=st.passed_over + (r,))
+    field = slot_field(st, tk.p, tk.world, slot)[0]
+    pool = [int(c) for c in candidates(tk)]
+    nxt = closest([field], pool, tk.x, tk.y)
+    if not nxt:
+        tk.ev("hand_over", r, slot=int(slot), to=-1)
+        call_off(tk)
+        start_retreat(tk, "stalled")
+        return False
+    n = nxt[0]
+    tk.mode[n] = _RECRUIT
+    rec, best, since = list(st.recruits), list(st.recruit_best_cm), list(st.recruit_progress_s)
+    rec[i], best[i], since[i] = n, math.inf, tk.t
+    tk.st = replace(st, recruits=tuple(rec), recruit_best_cm=tuple(best), recruit_progress_s=tuple(since))
+    tk.ev("hand_over", r, slot=int(slot), to=n)
+    return True
+
+
+def call_off(tk: Tick) -> None:
+    """Every recruit under way goes back to exploring; the structure is idle again."""
+    st = tk.st
+    if st.recruits:
+        tk.mode[list(st.recruits)] = _EXPLORE
+    tk.st = replace(st, recruits=(), recruit_slots=(), recruit_best_cm=(), recruit_progress_s=(),
+                    action="idle" if st.action == "recruit" else st.action)
+
+
+def open_slots(st: Structure) -> list[int]:
+    """The rear slots the next recruitment fills: after a switch, the open slot of each new
+    line/layer in the rear row; else the rest of the rear row (a whole row when it is full)."""
+    k = S.row_size(st)
+    if S.filling(st):
+        rear = (S.all_rows(st) - 1) * k
+        return [rear + q for q in S.open_columns(st)]
+    n_slots = k - len(st.members) % k if len(st.members) % k else k
+    return [len(st.members) + q for q in range(n_slots)]
+
+
+__all__ = ["approach", "approach_point", "call", "call_off", "candidates", "closest", "dock", "hand_over",
+           "open_slots", "path_costs", "slot_field", "OPEN"]

@@ -1,0 +1,105 @@
+"""Retreat: when the structure gives up, the watchdog that makes it give up, and how a run ends.
+
+A structure retreats (``Structure.retreating``; then :data:`~swarm_sim.structure.RETREAT_TABLE`
+or :data:`~swarm_sim.taper.TAPER_RETREAT_TABLE` drive it: release at the rear, back off)
+for one of these reasons, recorded in the ``retreat`` event's ``why``:
+
+==========================  =================================================================
+``why``                     when
+==========================  =================================================================
+``no_free_robot``           the rule needs another robot and none is left (Ch. 4.6.3)
+``span``                    the far ledge is not found within the widest structure's span
+``stalled``                 no free robot can reach the dock (every one called was handed over),
+                            or nothing progressed for ``stall_s`` (:func:`watchdog`)
+``dock_blocked``            the rear dock point is off the arena or on an obstacle
+``no_room_for_the_feet``    a tapering arch's feet would stick out of the arena
+==========================  =================================================================
+
+The run's ``end_reason`` (:func:`end_reason`) is ``crossed`` (the target was found),
+``retreated-no-robots``, ``retreated-span``, ``retreated-stalled``, ``retreated-blocked``,
+``retreated-no-room`` or ``timeout`` (the ``max_time_s`` guard; a shipped preset never
+reaches it, the tests check that).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from .state import OPEN, Mode, Phase
+from .tick import Tick
+
+REASONS = {
+    "no_free_robot": "retreated-no-robots",
+    "span": "retreated-span",
+    "stalled": "retreated-stalled",
+    "dock_blocked": "retreated-blocked",
+    "no_room_for_the_feet": "retreated-no-room",
+}
+END_REASONS = ("crossed", *REASONS.values(), "timeout")
+
+_EXPLORE, _RECRUIT, _TARGET, _RETREAT = int(Mode.EXPLORE), int(Mode.RECRUIT), int(Mode.TARGET), int(Mode.RETREAT)
+
+
+def start_retreat(tk: Tick, why: str, counts=None, free: int | None = None) -> None:
+    """The structure gives up for reason ``why`` (a key of :data:`REASONS`)."""
+    if why not in REASONS:
+        raise ValueError(f"unknown retreat reason {why!r}")
+    st = tk.st
+    if st.retreating:
+        return
+    tk.st = replace(st, retreating=True, progress_s=tk.t)
+    data = {"n": len(st.members), "why": why}
+    if counts is not None:
+        data.update(n_p=counts.n_p, n_g=counts.n_g)
+    if free is not None:
+        data["free"] = int(free)
+    tk.ev("retreat", st.members[0] if st.members else -1, **data)
+
+
+def watchdog(tk: Tick) -> None:
+    """A building structure that has not docked, moved, released, switched or seen a robot
+    come closer for ``stall_s`` seconds cannot proceed: it calls off what is under way and
+    retreats (``why = "stalled"``)."""
+    st = tk.st
+    if st is None or st.retreating or st.action == "align" or tk.t - st.progress_s <= tk.p.stall_s:
+        return
+    from .feet import abort_job
+    from .recruitment import call_off
+
+    tk.ev("stalled", st.members[0] if st.members else -1, action=st.action, since_s=round(st.progress_s, 6))
+    if st.recruits:
+        call_off(tk)
+    if tk.st.job and tk.st.job_stage == "drive":
+        abort_job(tk)
+    if tk.st.action in ("advance", "back"):
+        tk.st = replace(tk.st, action="idle")
+    start_retreat(tk, "stalled")
+
+
+def dissolved(tk: Tick) -> None:
+    """The structure is gone: after a retreat every robot on the initial side wanders, then
+    the run stops; otherwise the swarm is delivered and searches the target."""
+    st = tk.st
+    if not (st.action in ("wait", "idle") and not st.members and not st.job and all(r == OPEN for r in st.shell)):
+        return
+    if st.retreating:
+        tk.phase, tk.phase_since = int(Phase.WANDER), tk.t
+        tk.ev("dissolved", retreated=True)
+        m = (tk.mode == _EXPLORE) | (tk.mode == _RECRUIT)
+        tk.mode[m] = _RETREAT
+    else:
+        tk.phase, tk.phase_since = int(Phase.DELIVERED), tk.t
+        tk.ev("dissolved", retreated=False)
+    tk.st = None
+
+
+def end_reason(events, phase: int) -> str | None:
+    """How a run ended (see the module docstring); ``None`` while it is still running."""
+    if phase == Phase.SUCCESS:
+        return "crossed"
+    if phase == Phase.TIMEOUT:
+        return "timeout"
+    if phase in (Phase.RETREATED, Phase.WANDER):
+        why = next((d.get("why") for _t, k, _r, d in events if k == "retreat"), None)
+        return REASONS.get(why, "retreated-no-robots")
+    return None

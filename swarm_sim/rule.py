@@ -1,0 +1,91 @@
+"""The stability (counting) rule: one home for every structure the simulator builds.
+
+Robots are counted by where their centre of mass is (Ch. 4.6.3, Table 5.1):
+
+* ``n_p`` on the initial ground (centre at or before the near edge),
+* ``n_g`` over the void,
+* ``n_o`` on the target ground (centre at or past the far edge),
+
+and ``core_rows_over`` is the number of the moving core's rows over the void (the span).
+
+The rule, with the level's ``ratio`` r, ``margin`` m (robots or rows) and ``span``:
+
+* never more than ``span`` core rows over the void;
+* cantilever from the initial side (``n_o = 0``): ``n_p >= r n_g + m``;
+* cantilever from the target side (``n_p = 0``): ``n_o >= r n_g + m``;
+* both ends on ground: ``n_p + n_o >= r n_g + m``.
+
+What is counted is the caller's choice of row *weights*: a uniform structure (line, two
+lines, rectangular arch) counts rows (weight 1 per row, the thesis's small-void rule with
+r = 2, m = 0), a tapering arch counts robots (weight = robots in the row, plus the static
+feet's robots; thesis r = 1, m = 1). Lengths are in the caller's unit (cm, or robot
+lengths with ``L = 1``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+EPS = 1e-6
+
+
+@dataclass(frozen=True)
+class Counts:
+    """Weights by where their centre is, and the core rows over the void."""
+
+    n_p: float
+    n_g: float
+    n_o: float
+    core_rows_over: int = field(default=-1, compare=False)  # -1: the same as n_g (uniform rows)
+
+    @property
+    def span_rows(self) -> int:
+        return int(self.n_g) if self.core_rows_over < 0 else self.core_rows_over
+
+
+def counts(front_s: float, rows, L: float, void: float, shell_pgo: tuple = (0, 0, 0)) -> Counts:
+    """Counts of a moving core whose front face is ``front_s`` past the near edge.
+
+    ``rows``: the weight of each core row, front first (an int ``n`` means ``n`` rows of
+    weight 1); ``shell_pgo``: static weights already on (initial ground, void, target ground)."""
+    w = np.ones(int(rows)) if np.isscalar(rows) else np.asarray(rows)
+    s = front_s - (np.arange(w.size) + 0.5) * L
+    on_p, on_o = s <= EPS, s >= void - EPS
+    over = ~on_p & ~on_o
+    sp, sg, so = shell_pgo
+    return Counts(int(w[on_p].sum()) + sp, int(w[over].sum()) + sg, int(w[on_o].sum()) + so,
+                  int(np.sum(over & (w > 0))))
+
+
+def stable(c: Counts, ratio: float, margin: float, span: int) -> bool:
+    """The rule (module docstring) for counts ``c``."""
+    if c.span_rows > span:
+        return False
+    if c.n_g == 0:
+        return True
+    need = ratio * c.n_g + margin - EPS
+    if c.n_p and c.n_o:
+        return c.n_p + c.n_o >= need
+    if c.n_p:
+        return c.n_p >= need
+    if c.n_o:
+        return c.n_o >= need
+    return False
+
+
+def move_stable(front_from: float, front_to: float, rows, L: float, void: float, ratio: float, margin: float,
+                span: int, shell_pgo: tuple = (0, 0, 0)) -> bool:
+    """The rule holds at every configuration the core passes through on a move (counts change
+    only where a row centre crosses an edge: checked just before and after each crossing)."""
+    n = int(rows) if np.isscalar(rows) else len(rows)
+    lo, hi = min(front_from, front_to), max(front_from, front_to)
+    pts = [front_from, front_to]
+    for k in range(n):
+        for edge in (0.0, void):
+            f = edge + (k + 0.5) * L
+            if lo - EPS <= f <= hi + EPS:
+                pts += [f - 10 * EPS, f + 10 * EPS]
+    return all(stable(counts(f, rows, L, void, shell_pgo), ratio, margin, span)
+               for f in pts if lo - 20 * EPS <= f <= hi + 20 * EPS)
