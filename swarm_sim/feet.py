@@ -22,6 +22,7 @@ from .navigation import cost_field, nav_grid
 from .params import level_params
 from .recruitment import candidates, closest
 from .release import release
+from .retreat import start_retreat
 from .state import Mode, Structure
 from .tick import Tick
 
@@ -48,8 +49,6 @@ def start_fill_near(tk: Tick, g: T.ShellGeometry) -> None:
     cols = T.next_fill_group(tk.st.shell, g, T.NEAR)[:free.size]
     chosen = closest([_staging_field(tk, g, c) for c in cols], list(free), tk.x, tk.y)
     if not chosen:
-        from .retreat import start_retreat
-
         start_retreat(tk, "stalled")
         return
     cols = cols[:len(chosen)]

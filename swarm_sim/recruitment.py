@@ -7,8 +7,8 @@
   with no path is never called. A row is recruited whole (Ch. 5.4, assumption 5).
 * **The approach.** The recruit follows its path to the approach point, up to
   :data:`STAGE_BACK_L` robot lengths straight behind the dock point (nearer when an
-  obstacle or a wall is in the way, see :func:`approach_point`), turns to the structure's
-  heading and drives straight in (the IR-guided docking of Ch. 3, as an exact placement).
+  obstacle or a wall is in the way; beside it when an obstacle sits right behind it, see
+  :func:`approach_point`), turns towards the dock point and drives straight in (the IR-guided docking of Ch. 3, as an exact placement).
   The thesis's assumption 13 (Ch. 4.4: obstacles met while the structure moves are
   ignored, it cannot be steered) is honoured explicitly: the structure, its dock points
   and the last straight drive in are checked against the walls and the void only
@@ -30,6 +30,7 @@ from . import structure as S
 from .motion import drive_along, goto
 from .navigation import BLOCKED, CostField, cost_field, disc_clear, footprint_mask, nav_grid
 from .params import Params
+from .retreat import start_retreat
 from .state import OPEN, Mode, Structure
 from .tick import Tick
 from .world import World
@@ -61,25 +62,41 @@ def approach_point(world: World, dock_x: float, dock_y: float, dir_x: float, dir
     return out
 
 
+def _segment_ok(world: World, ax: float, ay: float, bx: float, by: float) -> bool:
+    """The straight drive from (ax, ay) to (bx, by), heading along it, keeps off walls and void."""
+    r = math.hypot(bx - ax, by - ay)
+    if r < 1e-9:
+        return world.pose_ok1(bx, by, 0.0)
+    h = math.atan2(by - ay, bx - ax)
+    n = max(2, int(r) + 1)
+    return all(world.pose_ok1(ax + (bx - ax) * k / n, ay + (by - ay) * k / n, h) for k in range(n + 1))
+
+
 def _approach_point(world: World, dock_x: float, dock_y: float, dir_x: float, dir_y: float,
                     L: float) -> tuple[float, float]:
-    heading = math.atan2(dir_y, dir_x)
+    free = world.without_obstacles  # docking is part of the structure: assumption 13
     steps = 32
     b_clear = world.body_radius_cm + 0.5 * world.length_cm - L  # turning clears the rear robot
-    ok = []
-    for i in range(steps, 0, -1):
+    near = []
+    for i in range(steps, 0, -1):  # straight behind the dock, farthest first
         b = STAGE_BACK_L * L * i / steps
         ax, ay = dock_x - b * dir_x, dock_y - b * dir_y
-        if not disc_clear(world, ax, ay):
-            continue
-        n = max(2, int(b) + 1)
-        free = world.without_obstacles  # docking is part of the structure: assumption 13
-        if all(free.pose_ok1(ax + (dock_x - ax) * k / n, ay + (dock_y - ay) * k / n, heading)
-               for k in range(n + 1)):
+        if disc_clear(world, ax, ay) and _segment_ok(free, ax, ay, dock_x, dock_y):
             if b >= b_clear:
                 return ax, ay
-            ok.append((ax, ay))
-    return ok[0] if ok else (dock_x, dock_y)
+            near.append((ax, ay))
+    if near:
+        return near[0]
+    # an obstacle sits behind the dock: turn where the ground is clear beside it, nearest first,
+    # behind the dock before beside it (never ahead: the structure is there), then drive in
+    back = math.atan2(-dir_y, -dir_x)
+    for rad in (0.5 * L, L, 1.5 * L, 2 * L, 2.5 * L, 3 * L):
+        for off in (0.0, 0.5, -0.5, 1.0, -1.0, 1.4, -1.4):
+            a = back + off
+            ax, ay = dock_x + rad * math.cos(a), dock_y + rad * math.sin(a)
+            if disc_clear(world, ax, ay) and _segment_ok(free, ax, ay, dock_x, dock_y):
+                return ax, ay
+    return dock_x, dock_y
 
 
 def footprint(st: Structure, p: Params, world: World):
@@ -150,23 +167,20 @@ def call(tk: Tick, slot_ids: list[int]) -> list[int]:
     tk.mode[chosen] = _RECRUIT
     n = len(chosen)
     tk.st = replace(st, action="recruit", recruits=tuple(chosen), recruit_slots=tuple(slot_ids[:n]),
-                    recruit_since_s=tk.t, recruit_best_cm=(math.inf,) * n, recruit_progress_s=(tk.t,) * n)
+                    recruit_since_s=tk.t, recruit_best_cm=(math.inf,) * n, recruit_progress_s=(tk.t,) * n,
+                    recruit_final=(False,) * n)
     tk.ev("recruit", chosen[0], n=len(st.members), robots=chosen)
     return chosen
 
 
-def _on_axis(st: Structure, rx: float, ry: float, dxp: float, dyp: float) -> bool:
-    return (abs((ry - dyp) * st.dir_x - (rx - dxp) * st.dir_y) < 1e-6
-            and (dxp - rx) * st.dir_x + (dyp - ry) * st.dir_y >= -1e-6)
-
-
 def approach(tk: Tick) -> None:
-    """The ``recruit`` action, one step: every recruit drives towards its dock point; a
-    stalled one is handed over; when all have arrived they dock (:func:`dock`)."""
+    """The ``recruit`` action, one step: every recruit drives towards its dock point (its path
+    to the approach point, then straight in); a stalled one is handed over; when all have
+    arrived they dock (:func:`dock`)."""
     st, p, world = tk.st, tk.p, tk.world
     dir_h = math.atan2(st.dir_y, st.dir_x)
     arrived_all = True
-    best, since = list(st.recruit_best_cm), list(st.recruit_progress_s)
+    best, since, final = list(st.recruit_best_cm), list(st.recruit_progress_s), list(st.recruit_final)
     stalled: list[int] = []
     half_cell = 0.5 * nav_grid(world).cell_cm
     for i, (r, slot) in enumerate(zip(st.recruits, st.recruit_slots, strict=True)):
@@ -175,7 +189,7 @@ def approach(tk: Tick) -> None:
         if rx == dxp and ry == dyp and rh == dir_h:
             continue
         arrived_all = False
-        if _on_axis(st, rx, ry, dxp, dyp):
+        if final[i]:
             # the drive in is part of the structure, which ignores obstacles (assumption 13)
             nx, ny, nh, arrived = goto(rx, ry, rh, dxp, dyp, p, world.without_obstacles, final_heading=dir_h,
                                        align_h=dir_h)
@@ -183,17 +197,20 @@ def approach(tk: Tick) -> None:
                 nx, ny, nh = dxp, dyp, dir_h
             left = math.hypot(nx - dxp, ny - dyp)
         else:
-            nx, ny, nh, _ = drive_along(field, rx, ry, rh, p, world, final_heading=dir_h, align_h=dir_h)
-            left = field.cost_at(nx, ny) + math.hypot(field.goal_x - dxp, field.goal_y - dyp)
+            ax, ay = field.goal_x, field.goal_y
+            in_h = dir_h if math.hypot(dxp - ax, dyp - ay) < 1e-9 else math.atan2(dyp - ay, dxp - ax)
+            nx, ny, nh, final[i] = drive_along(field, rx, ry, rh, p, world, final_heading=in_h, align_h=in_h)
+            left = field.cost_at(nx, ny) + math.hypot(ax - dxp, ay - dyp)
         tk.x[r], tk.y[r], tk.h[r] = nx, ny, nh
         if left < best[i] - half_cell:
             best[i], since[i] = left, tk.t
             tk.progress()
         elif tk.t - since[i] > p.recruit_stall_s:
             stalled.append(i)
-    tk.st = replace(tk.st, recruit_best_cm=tuple(best), recruit_progress_s=tuple(since))
+    tk.st = replace(tk.st, recruit_best_cm=tuple(best), recruit_progress_s=tuple(since), recruit_final=tuple(final))
     if arrived_all:
         dock(tk)
+        return
     for i in stalled:
         if not hand_over(tk, i):
             return
@@ -216,14 +233,12 @@ def dock(tk: Tick) -> None:
     tk.mode[list(st.recruits)] = _MEMBER
     tk.ev("dock", st.recruits[0], index=len(members), robots=list(st.recruits))
     tk.st = replace(st, members=members, recruits=(), recruit_slots=(), recruit_best_cm=(), recruit_progress_s=(),
-                    passed_over=(), action="idle", progress_s=tk.t)
+                    recruit_final=(), passed_over=(), action="idle", progress_s=tk.t)
 
 
 def hand_over(tk: Tick, i: int) -> bool:
     """Recruit ``i`` made no progress: release it and call the next closest free robot for its
     slot. False (and the recruitment called off, the structure retreating) when none can come."""
-    from .retreat import start_retreat
-
     st = tk.st
     r, slot = st.recruits[i], st.recruit_slots[i]
     tk.mode[r] = _EXPLORE
@@ -238,9 +253,11 @@ def hand_over(tk: Tick, i: int) -> bool:
         return False
     n = nxt[0]
     tk.mode[n] = _RECRUIT
-    rec, best, since = list(st.recruits), list(st.recruit_best_cm), list(st.recruit_progress_s)
-    rec[i], best[i], since[i] = n, math.inf, tk.t
-    tk.st = replace(st, recruits=tuple(rec), recruit_best_cm=tuple(best), recruit_progress_s=tuple(since))
+    rec, best, since, fin = (list(st.recruits), list(st.recruit_best_cm), list(st.recruit_progress_s),
+                             list(st.recruit_final))
+    rec[i], best[i], since[i], fin[i] = n, math.inf, tk.t, False
+    tk.st = replace(st, recruits=tuple(rec), recruit_best_cm=tuple(best), recruit_progress_s=tuple(since),
+                    recruit_final=tuple(fin))
     tk.ev("hand_over", r, slot=int(slot), to=n)
     return True
 
@@ -250,7 +267,7 @@ def call_off(tk: Tick) -> None:
     st = tk.st
     if st.recruits:
         tk.mode[list(st.recruits)] = _EXPLORE
-    tk.st = replace(st, recruits=(), recruit_slots=(), recruit_best_cm=(), recruit_progress_s=(),
+    tk.st = replace(st, recruits=(), recruit_slots=(), recruit_best_cm=(), recruit_progress_s=(), recruit_final=(),
                     action="idle" if st.action == "recruit" else st.action)
 
 

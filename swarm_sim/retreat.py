@@ -10,7 +10,7 @@ for one of these reasons, recorded in the ``retreat`` event's ``why``:
 ``no_free_robot``           the rule needs another robot and none is left (Ch. 4.6.3)
 ``span``                    the far ledge is not found within the widest structure's span
 ``stalled``                 no free robot can reach the dock (every one called was handed over),
-                            or nothing progressed for ``stall_s`` (:func:`watchdog`)
+                            or nothing progressed for ``stall_s`` (:func:`stalled`)
 ``dock_blocked``            the rear dock point is off the arena or on an obstacle
 ``no_room_for_the_feet``    a tapering arch's feet would stick out of the arena
 ==========================  =================================================================
@@ -56,24 +56,12 @@ def start_retreat(tk: Tick, why: str, counts=None, free: int | None = None) -> N
     tk.ev("retreat", st.members[0] if st.members else -1, **data)
 
 
-def watchdog(tk: Tick) -> None:
-    """A building structure that has not docked, moved, released, switched or seen a robot
-    come closer for ``stall_s`` seconds cannot proceed: it calls off what is under way and
-    retreats (``why = "stalled"``)."""
+def stalled(tk: Tick) -> bool:
+    """The watchdog's rule: a building structure that has not docked, moved, released, switched
+    or seen a robot come closer for ``stall_s`` seconds cannot proceed (the step then calls off
+    what is under way and retreats with ``why = "stalled"``)."""
     st = tk.st
-    if st is None or st.retreating or st.action == "align" or tk.t - st.progress_s <= tk.p.stall_s:
-        return
-    from .feet import abort_job
-    from .recruitment import call_off
-
-    tk.ev("stalled", st.members[0] if st.members else -1, action=st.action, since_s=round(st.progress_s, 6))
-    if st.recruits:
-        call_off(tk)
-    if tk.st.job and tk.st.job_stage == "drive":
-        abort_job(tk)
-    if tk.st.action in ("advance", "back"):
-        tk.st = replace(tk.st, action="idle")
-    start_retreat(tk, "stalled")
+    return not (st is None or st.retreating or st.action == "align" or tk.t - st.progress_s <= tk.p.stall_s)
 
 
 def dissolved(tk: Tick) -> None:

@@ -72,6 +72,8 @@ class Structure:
     #: per recruit: the shortest remaining path seen (cm) and when it last shortened (s)
     recruit_best_cm: tuple[float, ...] = ()
     recruit_progress_s: tuple[float, ...] = ()
+    #: per recruit: reached its approach point, now driving straight in
+    recruit_final: tuple[bool, ...] = ()
     #: robots that failed to reach this dock point (handed over); cleared by the next dock
     passed_over: tuple[int, ...] = ()
     #: when the structure last docked, moved, released, switched or saw a robot come closer (s)

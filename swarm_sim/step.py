@@ -284,7 +284,16 @@ def _place_members(tk: Tick) -> None:
 def watch(tk: Tick) -> None:
     if tk.st is None or tk.phase != _P_BUILD:
         return
-    RT.watchdog(tk)
+    if RT.stalled(tk):  # the structure cannot proceed: call off what is under way, retreat
+        st = tk.st
+        tk.ev("stalled", st.members[0] if st.members else -1, action=st.action, since_s=round(st.progress_s, 6))
+        if st.recruits:
+            RC.call_off(tk)
+        if tk.st.job and tk.st.job_stage == "drive":
+            feet.abort_job(tk)
+        if tk.st.action in ("advance", "back", "wait"):
+            tk.st = replace(tk.st, action="idle")
+        RT.start_retreat(tk, "stalled")
     RT.dissolved(tk)
     if tk.st is not None and tk.st.action != "align":
         _place_members(tk)

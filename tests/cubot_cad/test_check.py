@@ -55,7 +55,7 @@ def test_thinnest_wall_of_a_solid_block():
     assert thinnest_wall_mm(trimesh.creation.box((10, 20, 30))) == pytest.approx(10.0, abs=0.01)
 
 
-@pytest.mark.skipif(slicer_path() is None, reason="prusa-slicer is not installed (Debian package prusa-slicer)")
-def test_parts_slice_with_prusa_slicer(export_dir):
+def test_parts_slice_with_prusa_slicer(export_dir, require_tool):
+    require_tool(slicer_path(), "prusa-slicer")
     c = check_file(export_dir / "platform" / "test_platform.stl", export_dir, do_slice=True)
     assert c.slice["ok"] and c.slice["print_time"]

@@ -13,14 +13,25 @@ import pytest
 from swarm_sim.runner import resolve_params, run_scenario
 
 SEEDS = int(os.environ.get("VOIDCROSS_BOUNDARY_SEEDS", "50"))
-WIDTHS = {"case-a": (1, 2, 3, 4), "case-b": (1, 2, 3, 4, 5), "case-c": (1, 2, 3, 4, 5), "case-d": (1, 2, 3, 4, 5)}
+WIDTHS = {"case-a": (1, 2, 3, 4, 5), "case-b": (1, 2, 3, 4, 5), "case-c": (1, 2, 3, 4, 5), "case-d": (1, 2, 3, 4, 5)}
+
+
+def arena(preset: str, w: int) -> dict:
+    """Case A's 250 cm arena holds the line's 2w + 2 ground rows only up to w = 2 (beyond, the
+    rear dock point falls off the arena and the swarm retreats, ``retreated-blocked``): wider
+    voids get an arena long enough for them, (5w + 12) robot lengths (the thesis ran w = 5 in 700 cm)."""
+    if preset != "case-a" or w <= 2:
+        return {}
+    a = (5 * w + 12) * 12.0
+    return {"arena_w_cm": a, "target_x_cm": a - 12.5}
 
 
 def _pair(args):
     preset, w, seed = args
-    n = resolve_params(preset, 9, w, "thesis").min_robots_rule
-    ok = run_scenario(preset, n, w, seed, limits="thesis")
-    below = run_scenario(preset, n - 1, w, seed, limits="thesis")
+    kw = arena(preset, w)
+    n = resolve_params(preset, 9, w, "thesis", **kw).min_robots_rule
+    ok = run_scenario(preset, n, w, seed, limits="thesis", **kw)
+    below = run_scenario(preset, n - 1, w, seed, limits="thesis", **kw)
     return (preset, w, seed, n, ok.success, ok.timed_out, ok.robots_lost, below.retreated, below.timed_out,
             below.robots_lost, ok.end_reason, below.end_reason)
 

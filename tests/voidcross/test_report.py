@@ -200,8 +200,8 @@ def test_report_cli_and_bad_db(cli, small_db, tmp_path):
 CHROMIUM = shutil.which("chromium") or ("/usr/bin/chromium" if Path("/usr/bin/chromium").exists() else None)
 
 
-@pytest.mark.skipif(CHROMIUM is None, reason="Debian chromium is not installed (/usr/bin/chromium missing)")
-def test_report_loads_in_headless_chromium_with_no_missing_image(report):
+def test_report_loads_in_headless_chromium_with_no_missing_image(report, require_tool):
+    require_tool(CHROMIUM, "chromium")
     out, _ = report
     js = ("<script>window.onload=function(){var bad=[];for(const i of document.images){"
           "if(!i.complete||i.naturalWidth===0)bad.push(i.getAttribute('src'))}"

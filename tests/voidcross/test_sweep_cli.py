@@ -66,7 +66,7 @@ def _children(pid: int) -> list[int]:
 def test_kill_9_then_resume_loses_nothing_and_duplicates_nothing(tmp_path):
     db = tmp_path / "k.sqlite"
     args = [*BASE, "--robots", "3-8", "--void-width", "1-2", "--runs", "6", "--workers", "2",
-            "--set", "sleep_s=0.03", "--db", str(db)]
+            "--set", "sleep_s=0.2", "--db", str(db)]
     planned = 6 * 2 * 6
     for kill_after in (5, 30):  # two kills at different moments
         proc = _spawn(args + (["--resume"] if kill_after == 30 else []))
@@ -102,7 +102,7 @@ def test_kill_9_then_resume_loses_nothing_and_duplicates_nothing(tmp_path):
 def test_ctrl_c_stops_cleanly_and_says_how_to_resume(tmp_path):
     db = tmp_path / "c.sqlite"
     args = [*BASE, "--robots", "3-8", "--void-width", "1-2", "--runs", "5", "--workers", "2",
-            "--set", "sleep_s=0.03", "--db", str(db)]
+            "--set", "sleep_s=0.2", "--db", str(db)]
     proc = _spawn(args)
     _wait_rows(db, 4, proc)
     os.killpg(proc.pid, signal.SIGINT)  # as a terminal's Ctrl-C: the whole process group
