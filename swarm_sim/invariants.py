@@ -100,7 +100,11 @@ def _shell_violations(state: SwarmState, st, g, p: Params) -> list[str]:
 
 def lost_robots(state: SwarmState, world: World) -> np.ndarray:
     """Robots that would fall: body over the void while not in the structure (cheap check)."""
-    over = world.over_void(state.x_cm, state.heading_rad)
+    x = state.x_cm
+    r = world.body_radius_cm  # no body reaches farther than this from its centre
+    if not ((x > world.x0_cm - r) & (x < world.x1_cm + r)).any():
+        return np.zeros(0, dtype=np.int64)
+    over = world.over_void(x, state.heading_rad)
     if state.structure is not None and state.structure.members:
         over[S.occupied(state.structure)[0]] = False
     if state.structure is not None and state.structure.shell:

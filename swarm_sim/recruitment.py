@@ -111,8 +111,24 @@ def footprint(st: Structure, p: Params, world: World):
     return (lambda: footprint_mask(nav_grid(world), mx, my, reach, reach)), key
 
 
+_SLOT_FIELDS: dict = {}
+
+
 def slot_field(st: Structure, p: Params, world: World, slot: int) -> tuple[CostField, float, float]:
     """The cost field towards slot ``slot``'s approach point, and the dock point (cm)."""
+    key = (id(world), st.members, st.front_s_cm, st.origin_x_cm, st.origin_y_cm, st.dir_x, st.dir_y, st.lines,
+           st.layers, st.lateral_sign, slot, p.robot_length_cm, p.robot_width_cm)
+    hit = _SLOT_FIELDS.get(key)
+    if hit is not None and hit[0] is world:
+        return hit[1]
+    if len(_SLOT_FIELDS) > 256:
+        _SLOT_FIELDS.clear()
+    out = _slot_field(st, p, world, slot)
+    _SLOT_FIELDS[key] = (world, out)
+    return out
+
+
+def _slot_field(st: Structure, p: Params, world: World, slot: int) -> tuple[CostField, float, float]:
     dx, dy, _, _ = S.slot_pose(st, slot, p.robot_length_cm, p.robot_width_cm)
     ax, ay = approach_point(world, dx, dy, st.dir_x, st.dir_y, p.robot_length_cm)
     mask, key = footprint(st, p, world)
@@ -207,7 +223,9 @@ def approach(tk: Tick) -> None:
             tk.progress()
         elif tk.t - since[i] > p.recruit_stall_s:
             stalled.append(i)
-    tk.st = replace(tk.st, recruit_best_cm=tuple(best), recruit_progress_s=tuple(since), recruit_final=tuple(final))
+    best, since, final = tuple(best), tuple(since), tuple(final)
+    if (best, since, final) != (st.recruit_best_cm, st.recruit_progress_s, st.recruit_final):
+        tk.st = replace(tk.st, recruit_best_cm=best, recruit_progress_s=since, recruit_final=final)
     if arrived_all:
         dock(tk)
         return

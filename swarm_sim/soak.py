@@ -124,7 +124,7 @@ def soak(runs: int, seed: int = 0, max_time_s: float | None = None, limits: str 
         try:
             load_limits(name)
         except _BaseInputError as exc:
-            raise InputError(f"--limits {name}: {exc}") from None
+            raise InputError(str(exc)) from None
     rng = np.random.default_rng(seed)
     draws = [draw(rng, lims) for _ in range(runs)]
     t0 = time.perf_counter()

@@ -281,7 +281,9 @@ def _place_members(tk: Tick) -> None:
             tk.sopp[ids] = g.foot[slots]
 
 
-def watch(tk: Tick) -> None:
+def watch(tk: Tick, before: Structure | None = None) -> None:
+    """``before``: the structure at the start of the step (unchanged: its members already
+    stand at their slots, nothing else moves them)."""
     if tk.st is None or tk.phase != _P_BUILD:
         return
     if RT.stalled(tk):  # the structure cannot proceed: call off what is under way, retreat
@@ -295,7 +297,7 @@ def watch(tk: Tick) -> None:
             tk.st = replace(tk.st, action="idle")
         RT.start_retreat(tk, "stalled")
     RT.dissolved(tk)
-    if tk.st is not None and tk.st.action != "align":
+    if tk.st is not None and tk.st.action != "align" and tk.st is not before:
         _place_members(tk)
 
 
@@ -335,5 +337,8 @@ def step(state: SwarmState, p, world, rng: np.random.Generator, use_numba: bool 
         return state
     tk = Tick.of(state, p, world, rng, use_numba)
     for phase in PHASES:
-        phase(tk)
+        if phase is watch:
+            watch(tk, state.structure)
+        else:
+            phase(tk)
     return tk.state(state)

@@ -59,9 +59,12 @@ class Tick:
             self.st = replace(self.st, progress_s=self.t)
 
     def state(self, prev: SwarmState) -> SwarmState:
-        return replace(prev, x_cm=self.x, y_cm=self.y, heading_rad=self.h, goal_heading_rad=self.goal,
-                       run_left_cm=self.run_left, mode=self.mode, struct_index=self.sidx, struct_line=self.sline,
-                       struct_layer=self.slayer, struct_opposite=self.sopp, disperse_left_s=self.disp, t_s=self.t,
-                       step=prev.step + 1, phase=int(self.phase), phase_since_s=self.phase_since, structure=self.st,
-                       seed_robot=self.seed_robot, seed_position=self.seed_pos, target_finder=self.target_finder,
-                       events=prev.events + tuple(self.events) if self.events else prev.events)
+        """The new state (every field of :class:`SwarmState` given: no ``dataclasses.replace``
+        in the per-step path)."""
+        return SwarmState(x_cm=self.x, y_cm=self.y, heading_rad=self.h, goal_heading_rad=self.goal,
+                          run_left_cm=self.run_left, mode=self.mode, struct_index=self.sidx, struct_line=self.sline,
+                          struct_layer=self.slayer, disperse_left_s=self.disp, struct_opposite=self.sopp, t_s=self.t,
+                          step=prev.step + 1, phase=int(self.phase), phase_since_s=self.phase_since,
+                          structure=self.st, seed_robot=self.seed_robot, seed_position=self.seed_pos,
+                          target_finder=self.target_finder,
+                          events=prev.events + tuple(self.events) if self.events else prev.events)

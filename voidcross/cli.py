@@ -17,7 +17,9 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import signal
 import sys
+import threading
 import traceback
 
 from cubot_cad.errors import InputError
@@ -81,6 +83,10 @@ def main(argv: list[str] | None = None) -> int:
     if func is None:
         parser.print_help()
         return 0
+    if threading.current_thread() is threading.main_thread():
+        # Ctrl-C always interrupts (and long commands store what finished): a process started in
+        # the background by a non-interactive shell inherits SIGINT ignored, and Python keeps that
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
         return int(func(args) or 0)
     except InputError as exc:

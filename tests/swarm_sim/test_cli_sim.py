@@ -84,3 +84,13 @@ def test_bench_json_fields(cli):
     assert d["robots"] == 500 and d["steps"] == 5 and d["robot_steps_per_s"] > 0
     assert "scaling_exponent" in d and "state_bytes_100k" in d
     assert cli("sim", "bench", "--robots", "0").code == 2
+
+
+@pytest.mark.parametrize("argv,names", [
+    (("--seed", "-1"), "--seed -1"), (("--frame-every", "0"), "--frame-every 0"),
+    (("--frame-every", "-1"), "--frame-every -1"), (("--frame-every", "nan"), "--frame-every nan"),
+    (("--frame-every", "0.001"), "shorter than one step"),
+])
+def test_sim_run_refuses_bad_seeds_and_frame_intervals_with_one_line(cli, argv, names):
+    res = cli("sim", "run", "--preset", "case-d", *argv)
+    assert res.code == 2 and len(res.error_lines) == 1 and names in res.err

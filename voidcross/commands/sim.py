@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import tempfile
 import tomllib
@@ -86,6 +87,10 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--void-width {args.void_width}: must be >= 1 (robot widths)")
     if args.video and Path(args.video).suffix.lower() not in (".mp4", ".gif"):
         raise InputError(f"--video {args.video}: use a .mp4 or .gif file name")
+    if args.seed < 0:
+        raise InputError(f"--seed {args.seed}: must be a non-negative integer")
+    if not (math.isfinite(args.frame_every) and args.frame_every > 0):
+        raise InputError(f"--frame-every {args.frame_every}: must be a positive number of simulated seconds")
     overrides = _parse_set(args.set)
     from swarm_sim.params import load_preset
 
@@ -93,6 +98,8 @@ def run(args: argparse.Namespace) -> int:
     robots = args.robots if args.robots is not None else base.robots
     width = args.void_width if args.void_width is not None else base.void_width
     p = resolve_params(args.preset, robots, width, args.limits, args.max_time, **overrides)
+    if args.frame_every < p.dt_s:
+        raise InputError(f"--frame-every {args.frame_every}: shorter than one step ({p.dt_s:g} s)")
     recorder = None
     if args.video or args.snapshots:
         from swarm_sim.render import Recorder
