@@ -27,13 +27,36 @@ def out_dir(path: str | Path) -> Path:
     return p
 
 
+#: seconds between the plain progress lines written when stderr is not a terminal
+PLAIN_EVERY_S = 30.0
+
+
 def progress(iterable: Iterable, desc: str, total: int | None = None, disable: bool | None = None):
-    """A tqdm progress bar on stderr (plain iteration when tqdm is missing or output is not a TTY)."""
+    """A tqdm progress bar on stderr; when stderr is not a terminal (a log file, CI), a plain
+    line ``desc: i/total (elapsed, eta)`` every :data:`PLAIN_EVERY_S` seconds instead."""
     try:
         from tqdm import tqdm
     except ImportError:  # pragma: no cover - tqdm is a core dependency
         return iterable
-    if disable is None:
-        disable = not sys.stderr.isatty()
-    return tqdm(iterable, desc=desc, total=total, file=sys.stderr, disable=disable,
-                dynamic_ncols=True, leave=False)
+    if disable:
+        return iterable
+    if disable is None and not sys.stderr.isatty():
+        return _plain(iterable, desc, total)
+    return tqdm(iterable, desc=desc, total=total, file=sys.stderr, dynamic_ncols=True, leave=False)
+
+
+def _plain(iterable: Iterable, desc: str, total: int | None):
+    import time
+
+    t0 = last = time.monotonic()
+    i = 0
+    for i, item in enumerate(iterable, 1):
+        yield item
+        now = time.monotonic()
+        if now - last >= PLAIN_EVERY_S:
+            last = now
+            eta = f", ~{(now - t0) / i * (total - i):.0f} s left" if total else ""
+            print(f"{desc}: {i}/{total if total else '?'} ({now - t0:.0f} s{eta})", file=sys.stderr, flush=True)
+    if i and time.monotonic() - t0 >= PLAIN_EVERY_S:
+        print(f"{desc}: {i}/{total if total else '?'} done ({time.monotonic() - t0:.0f} s)", file=sys.stderr,
+              flush=True)
