@@ -24,7 +24,7 @@ import traceback
 
 from cubot_cad.errors import InputError
 
-COMMANDS = ("cad", "fem", "sim", "sweep", "report", "pipeline", "doctor")
+COMMANDS = ("cad", "fem", "sim", "sweep", "reproduce", "report", "pipeline", "doctor")
 
 EPILOG = """examples:
   voidcross doctor                      what is installed and what it enables

@@ -1,0 +1,163 @@
+"""`voidcross reproduce`: every experiment of the thesis at its own run counts, resumable into
+one SQLite file, then the report with ours beside the thesis's.
+
+The experiments are data (:data:`EXPERIMENTS`): Ch. 4.7's four cases (A: N in {5, 7, 8, 10};
+B: N in {3, 6, ..., 18}; C: N 3..18; D: N 3..18, 20, 25, 30, 40, 50; voids of 1..5 robot
+widths; 5, 5, 30 and 30 runs per cell) and Ch. 5.6's large void (70 robots, 6..10 widths,
+10 runs). ``--runs K`` shrinks every cell to K runs for a quick look. Each experiment is one
+sweep in the database, so an interrupted reproduction resumes where it stopped.
+
+Default limits: the thesis's (``--limits thesis``), since this reproduces its experiments;
+``--limits derived`` runs the same grid under our mechanics.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from ..output import emit
+
+EPILOG = """examples:
+  voidcross reproduce --chapter 4 --runs 2 --out results/reproduce      a quick look (~470 runs)
+  voidcross reproduce --chapter all --workers 2 --out results/reproduce the thesis's run counts (~5,850 runs)
+  voidcross reproduce --chapter 4 --cases A,B --json
+  voidcross reproduce --chapter 4 --limits derived --out results/reproduce-derived
+Re-running the same command resumes: runs already stored are not repeated. The report
+(OUT/report/index.html) has Tables 4.4-4.9 with ours beside the thesis's; --json prints,
+per case, the observed crossing boundary against the thesis's (3w + 2 for A, 3w for B-D).
+"""
+
+#: (chapter, case, preset, swarm sizes, void widths, runs per cell): Ch. 4.7 and Ch. 5.6
+EXPERIMENTS = (
+    (4, "A", "case-a", (5, 7, 8, 10), (1, 2, 3, 4, 5), 5),
+    (4, "B", "case-b", (3, 6, 9, 12, 15, 18), (1, 2, 3, 4, 5), 5),
+    (4, "C", "case-c", tuple(range(3, 19)), (1, 2, 3, 4, 5), 30),
+    (4, "D", "case-d", (*range(3, 19), 20, 25, 30, 40, 50), (1, 2, 3, 4, 5), 30),
+    (5, "large", "large-void", (70,), (6, 7, 8, 9, 10), 10),
+)
+
+
+def thesis_boundary(case: str, w: int) -> int | None:
+    """The thesis's smallest crossing swarm (Ch. 4.6.3): 3w + 2 for case A, 3w for B-D."""
+    return {"A": 3 * w + 2, "B": 3 * w, "C": 3 * w, "D": 3 * w}.get(case)
+
+
+def observed_boundary(cells: dict[tuple[int, int], list[bool]], w: int) -> dict:
+    """From {(robots, width): [crossed?]}: the smallest swarm of the grid at which every run
+    crossed, and whether every run of every smaller swarm retreated."""
+    sizes = sorted(n for n, ww in cells if ww == w)
+    all_cross = [n for n in sizes if cells[(n, w)] and all(cells[(n, w)])]
+    n_obs = all_cross[0] if all_cross else None
+    below_ok = n_obs is not None and all(not any(cells[(n, w)]) for n in sizes if n < n_obs)
+    return {"observed": n_obs, "below_all_retreat": below_ok,
+            "runs": sum(len(cells[(n, w)]) for n in sizes)}
+
+
+def _selected(chapter: str, cases: str | None) -> list[tuple]:
+    from swarm_sim.errors import InputError
+
+    if chapter not in ("4", "5", "all"):
+        raise InputError(f"--chapter {chapter!r}: one of 4, 5, all")
+    exps = [e for e in EXPERIMENTS if chapter == "all" or str(e[0]) == chapter]
+    if cases:
+        want = {c.strip() for c in cases.split(",") if c.strip()}
+        known = {e[1] for e in exps}
+        bad = sorted(want - known)
+        if bad or not want:
+            raise InputError(f"--cases {cases!r}: choose from {', '.join(sorted(known))}")
+        exps = [e for e in exps if e[1] in want]
+    return exps
+
+
+def run(args: argparse.Namespace) -> int:
+    from swarm_sim.errors import InputError
+    from swarm_sim.sweeps import ResultStore, SweepSpec, prepare_sweep
+
+    from .sweep import execute_plan
+
+    if args.runs is not None and args.runs < 1:
+        raise InputError(f"--runs {args.runs}: must be >= 1")
+    exps = _selected(args.chapter, args.cases)
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise InputError(f"--out {out}: is a file, not a directory")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"--out {out}: cannot create it ({exc.strerror})") from None
+    db = out / "reproduce.sqlite"
+    t0 = time.perf_counter()
+    interrupted = False
+    for chapter, case, preset, robots, widths, runs in exps:
+        spec = SweepSpec(preset, tuple(robots), tuple(widths), runs=args.runs or runs, limits=args.limits,
+                         seed0=args.seed)
+        plan = prepare_sweep(spec, db, resume=True, run_fn=args.run_fn)
+        s = execute_plan(plan, "local", args.workers, None,
+                         desc=f"Ch. {chapter} case {case} ({plan.summary.already_stored} stored)")
+        if s.interrupted:
+            interrupted = True
+            break
+    wall = time.perf_counter() - t0
+    # the boundaries, per case and width, from the database (this and earlier invocations)
+    cases: dict = {}
+    with ResultStore.open_readonly(db) as store:
+        for chapter, case, preset, robots, widths, _runs in exps:
+            cells: dict = {}
+            for r in store.iter_runs("WHERE status='ok' AND preset=?", (preset,)):
+                if r["limits"] != args.limits:
+                    continue
+                cells.setdefault((int(r["robots"]), int(r["void_width"])), []).append(bool(r["success"]))
+            rows = {}
+            for w in widths:
+                b = observed_boundary({k: v for k, v in cells.items() if k[0] in robots}, w)
+                b["thesis"] = thesis_boundary(case, w)
+                b["matches"] = b["thesis"] is not None and b["observed"] == b["thesis"] and b["below_all_retreat"]
+                rows[str(w)] = b
+            cases[case] = {"preset": preset, "chapter": chapter, "cells": len(robots) * len(widths),
+                           "runs": sum(len(v) for k, v in cells.items() if k[0] in robots and k[1] in widths),
+                           "by_width": rows}
+    report = None
+    if not interrupted and not args.no_report:
+        from ..report.build import build_report
+
+        report = build_report(db, out / "report", limits=args.limits)
+    payload = {"chapter": args.chapter, "limits": args.limits, "db": str(db), "wall_s": round(wall, 1),
+               "interrupted": interrupted, "cases": cases, "report": report}
+    lines = [f"reproduce chapter {args.chapter} ({args.limits} limits) -> {db} in {wall:.0f} s"]
+    for case, c in cases.items():
+        parts = []
+        for w, b in c["by_width"].items():
+            th = f" (thesis {b['thesis']})" if b["thesis"] is not None else ""
+            obs = b["observed"] if b["observed"] is not None else "none"
+            parts.append(f"w={w}: {obs}{th}{'' if b['below_all_retreat'] or b['observed'] is None else ' *'}")
+        lines.append(f"  case {case}: {c['runs']} runs; smallest swarm that always crossed: " + ", ".join(parts))
+    if report:
+        lines.append(f"  report: {report['html']}")
+    if interrupted:
+        print("error: interrupted: the finished runs are stored; re-run the same command to resume",
+              file=sys.stderr)
+        emit(args, payload, "\n".join(lines))
+        return 130
+    emit(args, payload, "\n".join(lines))
+    return 0
+
+
+def register(sub, common) -> None:
+    fmt = argparse.RawDescriptionHelpFormatter
+    p = sub.add_parser("reproduce", parents=[common], formatter_class=fmt, epilog=EPILOG,
+                       help="every thesis experiment at its own run counts, then the report",
+                       description=__doc__.split("\n\n")[0])
+    p.add_argument("--chapter", default="all", help="4 (cases A-D), 5 (large void) or all (default)")
+    p.add_argument("--cases", default=None, help="only these cases, e.g. A,B or large (default: all of the chapter)")
+    p.add_argument("--runs", type=int, default=None, help="runs per cell (default: the thesis's own counts)")
+    p.add_argument("--workers", type=int, default=None, help="worker processes (default: CPU count)")
+    p.add_argument("--limits", default="thesis", help="thesis (default: reproduce the thesis), derived, or a path")
+    p.add_argument("--seed", type=int, default=0, help="first seed; run i of a cell uses seed + i (default 0)")
+    p.add_argument("--out", default="results/reproduce", help="output directory (default results/reproduce)")
+    p.add_argument("--no-report", action="store_true", help="only run (and resume) the sweeps")
+    p.add_argument("--run-fn", dest="run_fn", default=None,
+                   help="advanced: run function 'module:function' (default: the simulator)")
+    p.set_defaults(func=run)
