@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import sys
 from collections.abc import Iterable
 from pathlib import Path
@@ -20,10 +21,41 @@ def emit(args, payload: Any, human: str) -> None:
         print(human)
 
 
-def out_dir(path: str | Path) -> Path:
-    """Create (if needed) and return an output directory."""
+def out_dir(path: str | Path, what: str = "--out", create: bool = True) -> Path:
+    """Create (if needed) and return an output directory; a path that cannot be one (a file, a
+    path under a file, no permission) is an input error naming ``what`` and the path, raised
+    before any work is done. ``create=False`` only checks (nothing is written)."""
+    from cubot_cad.errors import InputError
+
     p = Path(path)
-    p.mkdir(parents=True, exist_ok=True)
+    if p.exists() and not p.is_dir():
+        raise InputError(f"{what} {p}: is a file, not a directory")
+    if not create:
+        anc = p
+        while not anc.exists() and anc != anc.parent:
+            anc = anc.parent
+        if not anc.is_dir():
+            raise InputError(f"{what} {p}: {anc} is a file, not a directory")
+        if not os.access(anc, os.W_OK | os.X_OK):
+            raise InputError(f"{what} {p}: {anc} is not writable")
+        return p
+    try:
+        p.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"{what} {p}: cannot create the directory ({exc.strerror or exc})") from None
+    if not os.access(p, os.W_OK | os.X_OK):
+        raise InputError(f"{what} {p}: the directory is not writable")
+    return p
+
+
+def out_file(path: str | Path, what: str) -> Path:
+    """Check that an output file can be written (its directory is created); returns the path."""
+    from cubot_cad.errors import InputError
+
+    p = Path(path)
+    if p.is_dir():
+        raise InputError(f"{what} {p}: is a directory, not a file")
+    out_dir(p.parent, what, create=False)
     return p
 
 

@@ -133,6 +133,8 @@ def run_dock(args) -> int:
     for n in names:
         if n not in PAIRS:
             raise InputError(f"--pair {n!r} is not one of {', '.join(PAIRS)}, all")
+    if args.out:
+        out_dir(args.out, "--out", create=False)  # before the docking checks
     pairs = [dock(n, args.clearance_mm) for n in progress(names, "docking", len(names))]
     rows = [p.summary() for p in pairs]
     if args.out:

@@ -12,7 +12,8 @@ import argparse
 import time
 from pathlib import Path
 
-from voidcross.output import emit, out_dir, progress
+from cubot_cad.errors import InputError
+from voidcross.output import emit, out_dir, out_file, progress
 
 EPILOG = """examples:
   voidcross fem table                          derived thresholds + table into results/fem
@@ -68,7 +69,10 @@ def _bar(iterable, desc, total):
 def run_table(args) -> int:
     from structure_fem.runs import run_table as _run
 
-    res = _run(Path(args.out), _opts(args), docs_dir=args.docs, progress=_bar)
+    out = out_dir(args.out, "--out", create=False)  # checked before the 30 s of solving
+    if args.docs:
+        out_dir(args.docs, "--docs", create=False)
+    res = _run(out, _opts(args), docs_dir=args.docs, progress=_bar)
     th, tt = res["thresholds"], res["thesis_thresholds"]
     human = (f"derived thresholds (robot widths, clearance {res['clearance_mm']:g} mm): line {th['line']}, "
              f"two_line {th['two_line']}, arch {th['arch']}, arch levels {th['arch_levels']}; "
@@ -101,7 +105,7 @@ def _tapered_line(t: dict | None) -> str:
 def run_study(args) -> int:
     from structure_fem.runs import run_study as _run
 
-    res = _run(Path(args.out), _opts(args), progress=_bar)
+    res = _run(out_dir(args.out, "--out", create=False), _opts(args), progress=_bar)
     th = res["thresholds"]
     human = (f"thresholds: line {th['line']}, two_line {th['two_line']}, arch {th['arch']}, "
              f"arch levels {th['arch_levels']} (clearance {res['clearance_mm']:g} mm)\n"
@@ -142,6 +146,10 @@ def run_solve(args) -> int:
     from structure_fem.model import Config, solve
     from structure_fem.runs import make_inputs
 
+    if args.plot:
+        if Path(args.plot).suffix.lower() not in (".png", ".svg", ".pdf"):
+            raise InputError(f"--plot {args.plot}: use a .png, .svg or .pdf file name")
+        out_file(args.plot, "--plot")
     inp, _ = make_inputs(_opts(args))
     s = _structure(args)
     res = solve(Config(s, args.rows, args.over, args.void, args.phase), inp.robot, inp.connectors, inp.flexible)

@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
-from ..output import emit
+from ..output import emit, out_dir
 from ..pipeline import STAGES, run_pipeline
 
 
@@ -19,7 +18,7 @@ def run(args: argparse.Namespace) -> int:
         bad = [s for s in only if s not in names]
         if bad or not only:
             raise InputError(f"--stages {args.stages!r}: unknown stage(s) {bad} (choose from {', '.join(sorted(names))})")
-    out = Path(args.out)
+    out = out_dir(args.out, "--out", create=False)
     echo = (lambda s: None) if args.json else print
     results = run_pipeline(out, debug=args.debug, echo=echo, only=only)
     payload = {"out": str(out), "stages": [r.__dict__ for r in results]}

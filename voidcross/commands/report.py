@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..output import emit
+from ..output import emit, out_dir
 
 EPILOG = """examples:
   voidcross report --db results/case-d.sqlite
@@ -23,6 +23,7 @@ outputs when their directories are given. A section without data says so.
 def run(args: argparse.Namespace) -> int:
     from ..report import build_report
 
+    out_dir(args.out, "--out", create=False)  # before reading anything
     res = build_report(args.db, args.out, fem_dir=args.fem_dir, cad_dir=args.cad_dir, limits=args.limits)
     emit(args, res, f"report at {res['html']} (Markdown: {res['markdown']}; {res['figures']} figures, "
                     f"{res['runs']} runs, {res['no_data_notes']} sections without data)")

@@ -16,9 +16,8 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from pathlib import Path
 
-from ..output import emit
+from ..output import emit, out_dir
 
 EPILOG = """examples:
   voidcross reproduce --chapter 4 --runs 2 --out results/reproduce      a quick look (~470 runs)
@@ -81,13 +80,7 @@ def run(args: argparse.Namespace) -> int:
     if args.runs is not None and args.runs < 1:
         raise InputError(f"--runs {args.runs}: must be >= 1")
     exps = _selected(args.chapter, args.cases)
-    out = Path(args.out)
-    if out.exists() and not out.is_dir():
-        raise InputError(f"--out {out}: is a file, not a directory")
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"--out {out}: cannot create it ({exc.strerror})") from None
+    out = out_dir(args.out, "--out")
     db = out / "reproduce.sqlite"
     t0 = time.perf_counter()
     interrupted = False

@@ -11,7 +11,7 @@ import tomllib
 from pathlib import Path
 
 from swarm_sim.errors import InputError
-from voidcross.output import emit, out_dir, progress
+from voidcross.output import emit, out_dir, out_file, progress
 
 RUN_EPILOG = """examples:
   voidcross sim run --preset case-d --robots 9 --void-width 3 --seed 1 --json
@@ -100,6 +100,16 @@ def run(args: argparse.Namespace) -> int:
     p = resolve_params(args.preset, robots, width, args.limits, args.max_time, **overrides)
     if args.frame_every < p.dt_s:
         raise InputError(f"--frame-every {args.frame_every}: shorter than one step ({p.dt_s:g} s)")
+    # every output path is checked before the run (one error line, exit 2, nothing computed)
+    base = Path(args.out or "results/sim")
+    video = _under(base, args.video) if args.video else None
+    snaps = _under(base, args.snapshots) if args.snapshots else None
+    if args.out is not None:
+        out_dir(base, "--out", create=False)
+    if video is not None:
+        out_file(video, "--video")
+    if snaps is not None:
+        out_dir(snaps, "--snapshots", create=False)
     recorder = None
     if args.video or args.snapshots:
         from swarm_sim.render import Recorder
@@ -110,21 +120,19 @@ def run(args: argparse.Namespace) -> int:
     payload["limits_rule"] = {"ground_ratio": p.ground_ratio, "ground_margin": p.ground_margin,
                               "line_max_span_widths": p.max_span_widths}
     files = []
-    wants_files = args.out is not None or args.video or args.snapshots
-    if wants_files:
-        out = out_dir(args.out or "results/sim")
-        if args.video:
+    if video is not None or snaps is not None or args.out is not None:
+        if video is not None:
             from swarm_sim.render import write_video
 
-            files.append(str(write_video(recorder.frames, p, _under(out, args.video),
+            files.append(str(write_video(recorder.frames, p, video,
                                          progress=lambda it, n: progress(it, "rendering video", n))))
-        if args.snapshots:
+        if snaps is not None:
             from swarm_sim.render import write_snapshots
 
-            files += [str(f) for f in write_snapshots(recorder.frames, p, _under(out, args.snapshots),
+            files += [str(f) for f in write_snapshots(recorder.frames, p, snaps,
                                                       progress=lambda it, n: progress(it, "snapshots", n))]
         if args.out is not None:
-            target = out / f"run-{p.preset}-N{p.robots}-w{p.void_width}-s{args.seed}.json"
+            target = base / f"run-{p.preset}-N{p.robots}-w{p.void_width}-s{args.seed}.json"
             _write_json_atomic(target, res.to_dict(events=True))
             files.append(str(target))
     payload["files"] = files

@@ -14,7 +14,7 @@ import time
 from concurrent.futures import BrokenExecutor
 from pathlib import Path
 
-from ..output import emit, progress
+from ..output import emit, out_file, progress
 
 EPILOG = """examples:
   voidcross sweep --preset case-d --robots 3-18,20,25,30,40,50 --void-width 1-5 --runs 30 \\
@@ -112,6 +112,7 @@ def run(args: argparse.Namespace) -> int:
 def run_export(args: argparse.Namespace) -> int:
     from swarm_sim.sweeps.export import export_db
 
+    out_file(args.to, "--to")
     res = export_db(args.db, args.to)
     emit(args, res, f"exported {res['rows']} runs from {args.db} to {res['path']}")
     return 0
