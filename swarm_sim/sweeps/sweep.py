@@ -249,6 +249,42 @@ def prepare_sweep(spec: SweepSpec, db: str | os.PathLike, resume: bool = False, 
     return SweepPlan(spec, store, todo, summary, run_fn)
 
 
+def dry_run(spec: SweepSpec, db: str | os.PathLike, run_fn: RunFn | str | None = None, workers: int = 1,
+            calibrate: bool = True) -> dict:
+    """What a sweep would do, writing nothing: runs planned, already stored in ``db``, to run, and a
+    rough wall-time estimate from one timed run at the middle point (``calibrate``)."""
+    import time
+
+    run_fn = run_fn or DEFAULT_RUN_FN
+    fn = resolve_run_fn(run_fn) if isinstance(run_fn, str) else run_fn
+    if run_fn in (DEFAULT_RUN_FN, simulate):
+        preflight(spec)
+    digest = limits_digest(spec.limits)
+    keys = spec.keys(digest)
+    from .store import check_db
+
+    stored = 0
+    if check_db(db) == "ok":
+        ro = ResultStore.open_readonly(db)
+        try:
+            have = set(ro.existing_keys(spec.preset))
+        finally:
+            ro.close()
+        stored = sum((k["preset"], k["param_hash"], k["seed"]) in have for k in keys)
+    out = {"planned": len(keys), "already_stored": stored, "to_run": len(keys) - stored, "points":
+           len(spec.point_list()), "runs_per_point": spec.runs, "workers": workers, "calibration": None,
+           "estimate_wall_s": None}
+    if calibrate and out["to_run"]:
+        key = keys[(len(keys) // spec.runs // 2) * spec.runs]
+        t0 = time.perf_counter()
+        fn(key)
+        dt = time.perf_counter() - t0
+        out["calibration"] = {"robots": key["robots"], "void_width": key["void_width"], "seed": key["seed"],
+                              "wall_s": round(dt, 3)}
+        out["estimate_wall_s"] = round(out["to_run"] * dt / max(1, workers), 1)
+    return out
+
+
 def run_sweep(spec: SweepSpec, db: str | os.PathLike, executor: str = "local", workers: int | None = None,
               address: str | None = None, resume: bool = False, run_fn: RunFn | str | None = None,
               retry_errors: bool = False) -> SweepSummary:

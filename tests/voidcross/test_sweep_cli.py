@@ -221,3 +221,18 @@ def test_dead_worker_is_an_internal_failure_that_keeps_stored_runs(cli, tmp_path
     assert res.code == 1 and "worker process died" in res.err and "--resume" in res.err
     stored = rows(db)
     assert stored and all(r[3] == "ok" and r[2] != 3 for r in stored)
+
+
+def test_dry_run_counts_and_estimates_without_writing(cli, tmp_path):
+    db = tmp_path / "dry.sqlite"
+    res = cli(*BASE, "--robots", "3-5", "--void-width", "1-2", "--runs", "4", "--db", str(db), "--dry-run",
+              "--workers", "2", "--json")
+    assert res.code == 0, res.err
+    d = res.json()
+    assert (d["planned"], d["already_stored"], d["to_run"], d["points"]) == (24, 0, 24, 6)
+    assert d["calibration"]["wall_s"] >= 0 and d["estimate_wall_s"] is not None
+    assert not db.exists()
+    assert cli(*BASE, "--robots", "3-5", "--void-width", "1-2", "--runs", "4", "--db", str(db)).code == 0
+    again = cli(*BASE, "--robots", "3-5", "--void-width", "1-2", "--runs", "4", "--db", str(db), "--dry-run",
+                "--json").json()
+    assert again["already_stored"] == 24 and again["to_run"] == 0 and again["estimate_wall_s"] is None

@@ -26,6 +26,8 @@ CHECKS = (
     ("imageio-ffmpeg", "imageio_ffmpeg", "imageio-ffmpeg", "`voidcross sim run --video x.mp4` (GIF works without)"),
     ("hypothesis", "hypothesis", "hypothesis", "property-based tests (dev)"),
     ("pytest-benchmark", "pytest_benchmark", "pytest-benchmark", "`make bench` (dev)"),
+    ("pyarrow", "pyarrow", "pyarrow", "`voidcross sweep export --to runs.parquet` (optional, not in [all]: CSV works "
+     "without; pip install pyarrow)"),
 )
 TOOLS = (
     ("prusa-slicer", "prusa-slicer", "`voidcross cad check`: slicing, print time and filament (apt install prusa-slicer)"),
@@ -65,11 +67,27 @@ def _check_tool(name: str, command: str, feature: str) -> dict:
     version = "?"
     try:
         res = subprocess.run([path, "--version"], capture_output=True, text=True, timeout=30)
-        first = (res.stdout or res.stderr).strip().splitlines()
-        version = first[0] if first else "?"
+        version = clean_version(name, (res.stdout or "") + "\n" + (res.stderr or ""))
     except (OSError, subprocess.TimeoutExpired):
         pass
     return {"name": name, "ok": True, "version": version, "feature": feature, "detail": path}
+
+
+def clean_version(name: str, text: str) -> str:
+    """The version number in a tool's ``--version`` output (skipping log lines such as
+    PrusaSlicer's ``[info]`` ones): from the line naming the tool, else the first number seen."""
+    import re
+
+    num = re.compile(r"\b(\d+\.\d+(?:\.\d+)*)")
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("[")]
+    key = name.split("-")[0].lower()
+    for ln in lines:
+        if key in ln.lower() and num.search(ln):
+            return num.search(ln).group(1)
+    for ln in lines:
+        if num.search(ln):
+            return num.search(ln).group(1)
+    return "?"
 
 
 def diagnose() -> dict:

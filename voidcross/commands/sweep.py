@@ -20,6 +20,7 @@ EPILOG = """examples:
   voidcross sweep --preset case-d --robots 3-18,20,25,30,40,50 --void-width 1-5 --runs 30 \\
                   --db results/case-d.sqlite
   voidcross sweep ... --db results/case-d.sqlite --resume        complete an interrupted sweep
+  voidcross sweep ... --dry-run                                  how many runs, roughly how long
   voidcross sweep ... --limits thesis                            the thesis's 5/10/15 limits
   voidcross sweep ... --executor dask --address tcp://10.0.0.5:8786
   voidcross sweep export --db results/case-d.sqlite --to runs.csv
@@ -90,6 +91,22 @@ def run(args: argparse.Namespace) -> int:
     from swarm_sim.sweeps import prepare_sweep
 
     spec = build_spec(args)
+    if args.dry_run:
+        import os
+
+        from swarm_sim.sweeps.sweep import dry_run
+
+        workers = args.workers or os.cpu_count() or 1
+        d = dry_run(spec, args.db, run_fn=args.run_fn, workers=workers)
+        est = d["estimate_wall_s"]
+        cal = d["calibration"]
+        human = (f"dry run (nothing written): {d['planned']} runs planned ({d['points']} points x "
+                 f"{d['runs_per_point']} runs), {d['already_stored']} already in {args.db}, {d['to_run']} to run")
+        if cal:
+            human += (f"\none run at robots={cal['robots']}, void width {cal['void_width']} took {cal['wall_s']:.2f} s: "
+                      f"roughly {est / 60:.1f} min on {workers} worker(s) (runs of larger swarms take longer)")
+        emit(args, d, human)
+        return 0
     plan = prepare_sweep(spec, args.db, resume=args.resume, retry_errors=args.retry_errors,
                          run_fn=args.run_fn)
     s = execute_plan(plan, args.executor, args.workers, args.address,
@@ -198,6 +215,8 @@ def register(sub, common) -> None:
     p.add_argument("--workers", type=_positive_int, help="worker processes (default: CPU count)")
     p.add_argument("--resume", action="store_true", help="complete the sweep already in --db")
     p.add_argument("--retry-errors", action="store_true", help="with --resume: re-run runs that raised")
+    p.add_argument("--dry-run", action="store_true",
+                   help="print the run count and a rough wall-time estimate (one timed run); write nothing")
     p.add_argument("--max-time-s", dest="max_time_s", type=float, help="cap on simulated seconds per run")
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="scenario override passed to the simulator (repeatable; VALUE parsed as JSON)")
