@@ -92,3 +92,28 @@ def _plain(iterable: Iterable, desc: str, total: int | None):
     if i and time.monotonic() - t0 >= PLAIN_EVERY_S:
         print(f"{desc}: {i}/{total if total else '?'} done ({time.monotonic() - t0:.0f} s)", file=sys.stderr,
               flush=True)
+
+
+def parse_set(items: list[str] | None, option: str = "--set") -> dict:
+    """``KEY=VALUE`` overrides, one parser for every command: VALUE is read as a TOML value
+    (``800``, ``1.5``, ``true``, ``"text"``, ``[[30, 33, 5]]``), else as JSON, else kept as text."""
+    import tomllib
+
+    from cubot_cad.errors import InputError
+
+    out: dict = {}
+    for item in items or []:
+        k, sep, v = item.partition("=")
+        if not sep or not k.strip():
+            raise InputError(f"{option} {item!r}: expected KEY=VALUE")
+        v = v.strip()
+        try:
+            out[k.strip()] = tomllib.loads(f"v = {v}")["v"]
+            continue
+        except tomllib.TOMLDecodeError:
+            pass
+        try:
+            out[k.strip()] = json.loads(v)
+        except json.JSONDecodeError:
+            out[k.strip()] = v
+    return out

@@ -17,3 +17,23 @@ def test_progress_is_silent_for_short_work_and_when_disabled(capsys):
     assert list(output.progress(range(3), "quick", 3)) == [0, 1, 2]
     assert list(output.progress(range(3), "off", 3, disable=True)) == [0, 1, 2]
     assert capsys.readouterr().err == ""
+
+
+def test_one_set_parser_for_every_command():
+    from voidcross.output import parse_set
+
+    got = parse_set(["arena_w_cm=800", "finish_delivery=true", 'walk="random"', "obstacles=[[30, 33, 5]]",
+                     "sleep_s=0.03", "shape=octagon", 'note={"a": 1}'])
+    assert got == {"arena_w_cm": 800, "finish_delivery": True, "walk": "random", "obstacles": [[30, 33, 5]],
+                   "sleep_s": 0.03, "shape": "octagon", "note": {"a": 1}}
+
+
+def test_a_set_without_a_key_is_an_input_error():
+    import pytest
+
+    from cubot_cad.errors import InputError
+    from voidcross.output import parse_set
+
+    for bad in ("novalue", "=3"):
+        with pytest.raises(InputError, match="KEY=VALUE"):
+            parse_set([bad])

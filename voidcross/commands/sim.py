@@ -7,11 +7,10 @@ import json
 import math
 import os
 import tempfile
-import tomllib
 from pathlib import Path
 
 from swarm_sim.errors import InputError
-from voidcross.output import emit, out_dir, out_file, progress
+from voidcross.output import emit, out_dir, out_file, parse_set, progress
 
 RUN_EPILOG = """examples:
   voidcross sim run --preset case-d --robots 9 --void-width 3 --seed 1 --json
@@ -51,19 +50,6 @@ shared); scaling_exponent fits cost per step against N over 1,000..100,000 robot
 """
 
 
-def _parse_set(items: list[str] | None) -> dict:
-    out = {}
-    for item in items or []:
-        if "=" not in item:
-            raise InputError(f"--set {item!r}: expected KEY=VALUE")
-        k, v = item.split("=", 1)
-        try:
-            out[k.strip()] = tomllib.loads(f"v = {v.strip()}")["v"]
-        except tomllib.TOMLDecodeError:
-            out[k.strip()] = v.strip()
-    return out
-
-
 def _write_json_atomic(path: Path, payload: dict) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
@@ -91,7 +77,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--seed {args.seed}: must be a non-negative integer")
     if not (math.isfinite(args.frame_every) and args.frame_every > 0):
         raise InputError(f"--frame-every {args.frame_every}: must be a positive number of simulated seconds")
-    overrides = _parse_set(args.set)
+    overrides = parse_set(args.set)
     from swarm_sim.params import load_preset
 
     base = load_preset(args.preset)
@@ -230,7 +216,8 @@ def register(sub, common) -> None:
     r.add_argument("--void-width", type=int, default=None, help="void width in robot widths (default: preset's)")
     r.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
     r.add_argument("--limits", default="derived", help="derived | thesis | path to limits.json")
-    r.add_argument("--max-time", type=float, default=None, help="simulated-time cap in s (default: preset's)")
+    r.add_argument("--max-time-s", "--max-time", dest="max_time", type=float, default=None,
+                   help="simulated-time cap in s (default: the preset's guard)")
     r.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a preset value, e.g. arena_w_cm=800")
     r.add_argument("--video", help="write a .mp4 or .gif of the run (under --out)")
     r.add_argument("--snapshots", metavar="DIR", help="write PNG snapshots into DIR (under --out)")
@@ -243,7 +230,7 @@ def register(sub, common) -> None:
                       "lost robots", formatter_class=argparse.RawDescriptionHelpFormatter, epilog=SOAK_EPILOG)
     s.add_argument("--runs", type=int, default=100, help="number of random draws (default 100)")
     s.add_argument("--seed", type=int, default=0, help="seed of the draws (default 0)")
-    s.add_argument("--max-time", type=float, default=None,
+    s.add_argument("--max-time-s", "--max-time", dest="max_time", type=float, default=None,
                    help="cap every run at this many simulated s (default: each preset's guard; a run that "
                         "reaches it counts as a timeout)")
     s.add_argument("--limits", default="both", help="both | derived | thesis | path (default both)")

@@ -14,7 +14,7 @@ import time
 from concurrent.futures import BrokenExecutor
 from pathlib import Path
 
-from ..output import emit, out_file, progress
+from ..output import emit, out_file, parse_set, progress
 
 EPILOG = """examples:
   voidcross sweep --preset case-d --robots 3-18,20,25,30,40,50 --void-width 1-5 --runs 30 \\
@@ -37,21 +37,6 @@ re-runs those on --resume.
 DEFAULT_DB = "results/sweep.sqlite"
 
 
-def _overrides(items: list[str] | None) -> dict:
-    from swarm_sim.errors import InputError
-
-    out: dict = {}
-    for item in items or []:
-        k, sep, v = item.partition("=")
-        if not sep or not k.strip():
-            raise InputError(f"--set {item!r}: expected KEY=VALUE")
-        try:
-            out[k.strip()] = json.loads(v)
-        except json.JSONDecodeError:
-            out[k.strip()] = v
-    return out
-
-
 def build_spec(args):
     from swarm_sim.errors import InputError
     from swarm_sim.sweeps import SweepSpec, parse_int_range
@@ -62,7 +47,7 @@ def build_spec(args):
     robots = parse_int_range(args.robots, "--robots")
     widths = parse_int_range(args.void_width, "--void-width")
     return SweepSpec(args.preset, robots, widths, runs=args.runs, limits=args.limits, seed0=args.seed,
-                     max_time_s=args.max_time_s, overrides=_overrides(args.set))
+                     max_time_s=args.max_time_s, overrides=parse_set(args.set))
 
 
 def execute_plan(plan, executor, workers, address, desc: str):
@@ -217,7 +202,8 @@ def register(sub, common) -> None:
     p.add_argument("--retry-errors", action="store_true", help="with --resume: re-run runs that raised")
     p.add_argument("--dry-run", action="store_true",
                    help="print the run count and a rough wall-time estimate (one timed run); write nothing")
-    p.add_argument("--max-time-s", dest="max_time_s", type=float, help="cap on simulated seconds per run")
+    p.add_argument("--max-time-s", "--max-time", dest="max_time_s", type=float,
+                   help="cap on simulated seconds per run (default: the preset's guard)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="scenario override passed to the simulator (repeatable; VALUE parsed as JSON)")
     p.add_argument("--run-fn", dest="run_fn", default=None,
