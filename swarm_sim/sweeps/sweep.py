@@ -196,6 +196,16 @@ class SweepPlan:
         self.store.close()
 
 
+def stored_count(db, preset: str, keys: list[dict]) -> int:
+    """How many of ``keys`` a valid database already holds (read-only look)."""
+    ro = ResultStore.open_readonly(db)
+    try:
+        have = set(ro.existing_keys(preset))
+    finally:
+        ro.close()
+    return sum((k["preset"], k["param_hash"], k["seed"]) in have for k in keys)
+
+
 def prepare_sweep(spec: SweepSpec, db: str | os.PathLike, resume: bool = False, retry_errors: bool = False,
                   run_fn: RunFn | str | None = None, digest: str | None = None) -> SweepPlan:
     """Validate everything, then open/create the database and list the runs still missing.
@@ -225,12 +235,7 @@ def prepare_sweep(spec: SweepSpec, db: str | os.PathLike, resume: bool = False, 
                     f"--db {db}: sweep {spec.sweep_id} was started with limits {spec.limits_label} of digest "
                     f"{existing.limits_digest}; they now digest to {digest} (the limits changed: use a new --db)")
             if not resume:
-                store = ResultStore.open_readonly(db)
-                try:
-                    have = set(store.existing_keys(spec.preset))
-                finally:
-                    store.close()
-                n = sum((k["preset"], k["param_hash"], k["seed"]) in have for k in keys)
+                n = stored_count(db, spec.preset, keys)
                 raise InputError(
                     f"--db {db} already holds this sweep ({n}/{len(keys)} runs stored): add --resume to "
                     "complete it, or choose another --db")
@@ -263,14 +268,7 @@ def dry_run(spec: SweepSpec, db: str | os.PathLike, run_fn: RunFn | str | None =
     keys = spec.keys(digest)
     from .store import check_db
 
-    stored = 0
-    if check_db(db) == "ok":
-        ro = ResultStore.open_readonly(db)
-        try:
-            have = set(ro.existing_keys(spec.preset))
-        finally:
-            ro.close()
-        stored = sum((k["preset"], k["param_hash"], k["seed"]) in have for k in keys)
+    stored = stored_count(db, spec.preset, keys) if check_db(db) == "ok" else 0
     out = {"planned": len(keys), "already_stored": stored, "to_run": len(keys) - stored, "points":
            len(spec.point_list()), "runs_per_point": spec.runs, "workers": workers, "calibration": None,
            "estimate_wall_s": None}
