@@ -3,7 +3,8 @@
 Per step each walker: (1) senses hazards: void ahead of a ground sensor, a wall
 or obstacle within ``avoid_cm`` ahead, another robot within ``avoid_cm`` in its
 front half-plane (grid query); (2) picks a heading goal: on a hazard a random
-turn of 90..180 deg away, else the walk (Levy walk: straight runs whose length
+turn of 90..180 deg away (kept, not redrawn, while the hazard lasts and the turn is under
+way and not refused by the reflex), else the walk (Levy walk: straight runs whose length
 follows a power law ``p(l) ~ l^-mu`` on ``[levy_min_cm, levy_max_cm]`` followed by a
 uniform random turn; random walk: a turn of ``+-random_turn_rad`` with probability
 ``random_turn_prob`` per step); (3) turns towards the goal by at most
@@ -27,6 +28,9 @@ from .params import Params
 from .world import World, wrap
 
 
+AVOIDING = -1.0  # run_left_cm marker: the robot turned away from a hazard on its last step
+
+
 def levy_lengths(u: np.ndarray, p: Params) -> np.ndarray:
     """Inverse-CDF sample of a power law with exponent ``levy_mu`` (cm)."""
     a = p.levy_mu - 1.0
@@ -44,8 +48,11 @@ def _walk_numpy(x, y, h, goal, run_left, walkers, straight, blocked, u, world: W
     hazard = world.void_ahead(wx, wy, wh) | world.wall_ahead(wx, wy, wh) | (blocked & ~straight)
     dist = p.speed_cm_s * p.dt_s
     side = np.where(u[0] < 0.5, -1.0, 1.0)
-    wg = np.where(hazard, wh + side * (0.5 * np.pi + 0.5 * np.pi * u[1]), wg)
-    wr = np.where(hazard, 0.0, wr)
+    # an avoidance turn still under way (hazard last step too, goal not reached) is finished,
+    # not redrawn: redrawing every step let the 90-deg clipped turn cycle a lattice of headings
+    keep = hazard & (wr < 0) & (np.abs(wrap(wg - wh)) > 1e-9)
+    wg = np.where(hazard & ~keep, wh + side * (0.5 * np.pi + 0.5 * np.pi * u[1]), wg)
+    wr = np.where(hazard, AVOIDING, np.where(wr < 0, 0.0, wr))
     calm = ~hazard & ~straight
     if p.walk == "levy":
         wr = np.where(calm, wr - dist, wr)
@@ -74,6 +81,7 @@ def _walk_numpy(x, y, h, goal, run_left, walkers, straight, blocked, u, world: W
         nx[bad] = np.where(ok1, ax, np.where(ok2, bx, np.where(ok3, sx, bx)))
         ny[bad] = np.where(ok1, ay, by)
         nh_[bad] = np.where(ok1, bh, np.where(ok2, nh_[bad], bh))
+        wr[bad] = np.where(ok2 & ~ok1, wr[bad], np.where(wr[bad] < 0, 0.0, wr[bad]))  # turn refused: redraw next
     x[walkers], y[walkers], h[walkers] = nx, ny, nh_
     goal[walkers], run_left[walkers] = wg, wr
 
@@ -144,10 +152,13 @@ if HAVE_NUMBA:
                 hz = verlet_ahead(i, wx, wy, c, s, r2, snap_x, snap_y, nbr_start, nbr_idx)
             g = goal[i]
             rl = run_left[i]
-            if hz:
-                side = -1.0 if u[0, k] < 0.5 else 1.0
-                g = wh + side * (0.5 * math.pi + 0.5 * math.pi * u[1, k])
+            if rl < 0 and not hz:
                 rl = 0.0
+            if hz:
+                if not (rl < 0 and abs(_wrap(g - wh)) > 1e-9):  # see _walk_numpy: keep
+                    side = -1.0 if u[0, k] < 0.5 else 1.0
+                    g = wh + side * (0.5 * math.pi + 0.5 * math.pi * u[1, k])
+                rl = AVOIDING
             elif not straight[k]:
                 if levy:
                     rl -= dist
@@ -178,14 +189,18 @@ if HAVE_NUMBA:
                 ax = wx + dist * c
                 ay = wy + dist * s
                 sx = wx - dist if wx < mid else wx + dist
+                turned = False
                 if _ok(ax, ay, c, s, sq, hl, hw, W, H, x0, x1, obs, r):
                     nx, ny, nh = ax, ay, wh
                 elif _ok(wx, wy, cn, sn, sq, hl, hw, W, H, x0, x1, obs, r):
                     nx, ny = wx, wy
+                    turned = True
                 elif _ok(sx, wy, c, s, sq, hl, hw, W, H, x0, x1, obs, r):
                     nx, ny, nh = sx, wy, wh
                 else:
                     nx, ny, nh = wx, wy, wh
+                if not turned and rl < 0:  # turn refused: redraw the avoidance goal next step
+                    rl = 0.0
             x[i] = nx
             y[i] = ny
             h[i] = nh

@@ -198,6 +198,13 @@ class Params:
         for i, ob in enumerate(self.obstacles):
             req(len(ob) == 3 and all(isinstance(v, (int, float)) and math.isfinite(v) for v in ob) and ob[2] > 0,
                 f"obstacle {i} must be (x_cm, y_cm, r_cm) with r > 0, got {ob!r}")
+            # a walker turns away from an obstacle ahead within avoid_cm of its rim, so its centre
+            # never comes closer than r + avoid_cm: a target inside that disc is never found
+            reach = ob[2] + self.avoid_cm
+            gap = math.hypot(tx - ob[0], ty - ob[1])
+            req(gap >= reach,
+                f"target ({tx:g}, {ty:g}) cm is {gap:.1f} cm from obstacle {i} at ({ob[0]:g}, {ob[1]:g}) cm: "
+                f"free robots keep r + avoid_cm = {reach:g} cm from its centre, so the target can never be found")
         # the swarm must fit on the initial ground at the start
         free_area = (x0 - 2 * L) * (self.arena_h_cm - 2 * L)
         req(self.robots * (2 * L) ** 2 <= max(free_area, 0) * 0.9,
