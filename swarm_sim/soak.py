@@ -13,8 +13,11 @@ carries its draw, so it can be replayed with ``voidcross sim run``.
 
 from __future__ import annotations
 
+import json
+import os
 import time
 from collections.abc import Iterable
+from pathlib import Path
 
 import numpy as np
 
@@ -100,14 +103,18 @@ def _one(d: dict, max_time_s: float | None) -> dict:
 
 
 def _star(a):
-    return _one(*a)
+    i, d, max_time_s = a
+    return i, _one(d, max_time_s)
 
 
 def soak(runs: int, seed: int = 0, max_time_s: float | None = None, limits: str | tuple = LIMITS,
-         workers: int = 1, progress=lambda it, total: it) -> dict:
+         workers: int = 1, progress=lambda it, total: it, journal: str | Path | None = None) -> dict:
     """``runs`` random whole runs (module docstring). ``limits``: ``"derived"``, ``"thesis"``,
     a path, or a tuple of them to draw from (default both); ``max_time_s``: override the
-    presets' time-limit guard (None: keep it); ``workers``: processes."""
+    presets' time-limit guard (None: keep it); ``workers``: processes. ``journal``: a JSON-lines
+    file every finished draw is appended to; run again with the same file (and the same
+    runs, seed, limits and guard) to resume: the draws it holds are tallied, not re-run, and
+    ``wall_s_total`` adds the wall time of every session."""
     if isinstance(runs, bool) or not isinstance(runs, int) or runs < 1:
         raise InputError(f"--runs must be a positive integer, got {runs!r}")
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
@@ -132,24 +139,91 @@ def soak(runs: int, seed: int = 0, max_time_s: float | None = None, limits: str 
                     "whole_runs": True, "timeouts": 0, "n_violations": 0, "robots_lost": 0, "errors": 0,
                     "skipped_invalid": 0, "hand_overs": 0, "end_reasons": {}, "by_preset": {},
                     "violations": [], "timeout_draws": [], "error_draws": [], "simulated_s": 0.0}
-    args = [(d, max_time_s) for d in draws]
-    if workers == 1:
+    header = {"soak": 1, "runs": runs, "seed": seed, "limits": list(lims), "max_time_s": max_time_s}
+    done, earlier_wall = _read_journal(Path(journal), header) if journal is not None else ({}, 0.0)
+    outs = dict(done)
+    todo = [i for i in range(runs) if i not in done]
+    args = [(i, draws[i], max_time_s) for i in todo]
+    fh = None
+    if journal is not None:
+        try:
+            fh = open(journal, "a", encoding="utf-8")  # append only: what is written stays written
+        except OSError as exc:
+            raise InputError(f"--journal {journal}: cannot append ({exc.strerror})") from None
+        if not done and Path(journal).stat().st_size == 0:
+            _append(fh, header)
+        _append(fh, {"session": time.time(), "resumed": len(done)})
+    if workers == 1 or len(todo) <= 1:
         results: Iterable = map(_star, args)
         pool = None
     else:
         import multiprocessing as mp
 
         pool = mp.get_context("spawn").Pool(workers)
-        results = pool.imap(_star, args, chunksize=4)
+        results = pool.imap_unordered(_star, args, chunksize=2)
     try:
-        for d, out in zip(draws, progress(results, runs), strict=False):
-            _tally(report, d, out)
+        for i, out in progress(results, len(todo)):
+            outs[i] = out
+            if fh is not None:
+                _append(fh, {"i": i, "out": out, "wall_s": round(time.perf_counter() - t0, 2)})
     finally:
         if pool is not None:
             pool.terminate()
+        if fh is not None:
+            fh.close()
     report["wall_s"] = round(time.perf_counter() - t0, 2)
+    report["wall_s_total"] = round(earlier_wall + report["wall_s"], 2)
+    report["resumed_runs"] = len(done)
+    for i in sorted(outs):  # in draw order, whatever order the workers finished in
+        _tally(report, draws[i], outs[i])
     report["simulated_s"] = round(report["simulated_s"], 2)
     return report
+
+
+def _append(fh, rec: dict) -> None:
+    fh.write(json.dumps(rec, sort_keys=True) + "\n")
+    fh.flush()
+
+
+def _read_journal(path: Path, header: dict) -> tuple[dict[int, dict], float]:
+    """The finished draws of an earlier session (index -> outcome) and its wall time; an
+    absent or empty file is a fresh start. A journal of another soak is refused, a torn last
+    line (the process was killed mid-write) is ignored, any other bad line is an error."""
+    if not path.exists() or path.stat().st_size == 0:
+        return {}, 0.0
+    if path.is_dir():
+        raise InputError(f"--journal {path} is a directory")
+    text = path.read_text(encoding="utf-8")
+    lines = text.splitlines()
+    recs, torn = [], 0
+    for n, line in enumerate(lines, 1):
+        try:
+            recs.append(json.loads(line))
+        except json.JSONDecodeError:
+            if n == 1:
+                raise InputError(f"--journal {path} is not a soak journal (its first line is not JSON)") from None
+            if n == len(lines) and not text.endswith("\n"):
+                torn = len(line.encode("utf-8"))
+                break
+            raise InputError(f"--journal {path}: line {n} is not JSON (corrupt journal)") from None
+    if not recs or recs[0].get("soak") != 1:
+        raise InputError(f"--journal {path} is not a soak journal (no header line)")
+    if recs[0] != header:
+        diff = {k: recs[0].get(k) for k in header if recs[0].get(k) != header[k]}
+        raise InputError(f"--journal {path} is another soak's ({diff}); use a new file or the same options")
+    if torn:  # a journal of this soak: cut the torn record so the next append starts its own line
+        os.truncate(path, len(text.encode("utf-8")) - torn)
+    done: dict[int, dict] = {}
+    wall, session_wall = 0.0, 0.0
+    for r in recs[1:]:
+        if "session" in r:
+            wall, session_wall = wall + session_wall, 0.0
+        elif isinstance(r.get("i"), int) and 0 <= r["i"] < header["runs"] and isinstance(r.get("out"), dict):
+            done[r["i"]] = r["out"]
+            session_wall = max(session_wall, float(r.get("wall_s", 0.0)))
+        else:
+            raise InputError(f"--journal {path}: a record is not a finished draw: {str(r)[:80]}")
+    return done, wall + session_wall
 
 
 def _tally(report: dict, d: dict, out: dict) -> None:

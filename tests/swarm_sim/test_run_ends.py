@@ -317,3 +317,36 @@ def test_a_target_inside_an_obstacles_avoidance_reach_is_refused():
                        target_y_cm=165.42)
     resolve_params("case-a", 10, 3, "derived", arena_w_cm=260.0, arena_h_cm=223.0, target_x_cm=235.0,
                    target_y_cm=150.0)  # 26.9 cm away: fine
+
+
+def test_a_soak_with_a_journal_resumes_where_it_stopped(tmp_path):
+    from swarm_sim.errors import InputError
+
+    j = tmp_path / "soak.jsonl"
+    first = soak(3, seed=3, max_time_s=30.0, journal=j)
+    lines = j.read_text().splitlines()
+    assert len(lines) == 1 + 1 + 3 and first["resumed_runs"] == 0
+    # killed while writing the next session's record: a torn last line is ignored
+    j.write_text("\n".join(lines[:-1]) + "\n" + lines[-1][:7])
+    again = soak(3, seed=3, max_time_s=30.0, journal=j)
+    assert again["resumed_runs"] == 2 and again["end_reasons"] == first["end_reasons"]
+    assert again["wall_s_total"] >= again["wall_s"]
+    third = soak(3, seed=3, max_time_s=30.0, journal=j)  # all three held: nothing runs
+    assert third["resumed_runs"] == 3 and third["end_reasons"] == first["end_reasons"]
+    with pytest.raises(InputError, match="another soak"):
+        soak(3, seed=4, max_time_s=30.0, journal=j)
+    bad = tmp_path / "bad.jsonl"
+    bad.write_text(lines[0] + "\n{not json\n" + lines[2] + "\n")
+    with pytest.raises(InputError, match="line 2 is not JSON"):
+        soak(3, seed=3, max_time_s=30.0, journal=bad)
+    assert bad.read_text() == lines[0] + "\n{not json\n" + lines[2] + "\n"  # never rewritten
+
+
+def test_a_journal_that_is_not_a_soaks_is_refused_and_left_alone(tmp_path):
+    from swarm_sim.errors import InputError
+
+    f = tmp_path / "notes.csv"
+    f.write_text("a,b\n1,2")  # no trailing newline: must not be mistaken for a torn record
+    with pytest.raises(InputError, match="not a soak journal"):
+        soak(2, seed=3, max_time_s=5.0, journal=f)
+    assert f.read_text() == "a,b\n1,2"

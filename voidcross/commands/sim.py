@@ -32,7 +32,7 @@ To target search, Td retreat and disassembly, Tb wander after a retreat, Tt tota
 
 SOAK_EPILOG = """examples:
   voidcross sim soak --runs 200 --json
-  voidcross sim soak --runs 10000 --workers 2 --json
+  voidcross sim soak --runs 10000 --workers 2 --json --journal soak.jsonl   (resumable)
   voidcross sim soak --runs 500 --limits thesis --seed 7
 Each run draws a preset (every shipped one), limits (derived and thesis), swarm size around
 the rule minimum, void width, arena, obstacles, structure and seed, and runs to its end
@@ -159,11 +159,13 @@ def soak(args: argparse.Namespace) -> int:
 
     limits = LIMITS if args.limits == "both" else (args.limits,)
     rep = do_soak(args.runs, seed=args.seed, max_time_s=args.max_time, limits=limits, workers=args.workers,
-                  progress=lambda it, n: progress(it, "soak", n))
+                  progress=lambda it, n: progress(it, "soak", n), journal=args.journal)
     guard = "the presets' time-limit guards" if args.max_time is None else f"capped at {args.max_time:g} s"
     reasons = ", ".join(f"{k} {v}" for k, v in sorted(rep["end_reasons"].items())) or "none"
+    resumed = f" ({rep['resumed_runs']} from the journal, {rep['wall_s_total']:.0f} s wall in all)" \
+        if rep["resumed_runs"] else ""
     human = (f"{rep['runs']} randomised whole runs (limits {', '.join(rep['limits'])}; {guard}) in "
-             f"{rep['wall_s']:.0f} s wall: {rep['timeouts']} timeouts, {rep['n_violations']} invariant violations, "
+             f"{rep['wall_s']:.0f} s wall{resumed}: {rep['timeouts']} timeouts, {rep['n_violations']} invariant violations, "
              f"{rep['robots_lost']} robots lost, {rep['errors']} runs raised, {rep['skipped_invalid']} draws "
              f"rejected as invalid input\nended: {reasons}; {rep['hand_overs']} recruits handed over")
     for v in (rep["violations"][:10] + rep["timeout_draws"][:10] + rep["error_draws"][:10]):
@@ -235,6 +237,9 @@ def register(sub, common) -> None:
                         "reaches it counts as a timeout)")
     s.add_argument("--limits", default="both", help="both | derived | thesis | path (default both)")
     s.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
+    s.add_argument("--journal", default=None, metavar="FILE",
+                   help="append every finished draw to FILE (JSON lines); the same command again resumes "
+                        "from it (long soaks in slices)")
     s.set_defaults(func=soak)
 
     b = ss.add_parser("bench", parents=[common], help="exploration-only throughput and scaling",
