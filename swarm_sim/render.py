@@ -20,6 +20,43 @@ from .errors import InputError
 from .params import Params
 from .state import Mode, SwarmState, thesis_state
 
+#: legend and header names of the modes (the header counts the same modes the colours show)
+MODE_NAMES = {
+    Mode.EXPLORE: "exploring (-1)", Mode.SEED: "seed", Mode.RECRUIT: "recruit", Mode.MEMBER: "in structure",
+    Mode.TARGET: "target search (-2)", Mode.RETREAT: "retreating (-3)", Mode.STOPPED: "stopped",
+}
+
+#: event captions; the events marked True are where snapshots are taken
+CAPTIONS = {
+    "seed": ("robot {r} found the edge: it is the seed", True),
+    "aligned": ("the seed is aligned with the edge", False),
+    "recruit": ("robot {r} called to the rear", False),
+    "dock": ("robot {r} docked at the rear", False),
+    "hand_over": ("recruit {r} made no progress: handed over", False),
+    "far_ledge": ("the front reached the far ledge (landed)", True),
+    "switch": ("switch to {level} ({lines} x {layers} per row)", True),
+    "release_front": ("robot {r} released onto the target ground", True),
+    "release_rear": ("robot {r} released at the rear", False),
+    "retreat": ("retreat: {why}", True),
+    "target_found": ("robot {r} found the target", True),
+    "dissolved": ("the structure has dissolved", True),
+    "stopped": ("the swarm stopped", False),
+    "timeout": ("time limit reached", True),
+}
+CAPTION_S = 4.0  # simulated seconds an event's caption stays on screen
+
+
+def caption(ev) -> str | None:
+    """The one-line caption of an event ``(t_s, kind, robot, data)``; None for silent ones."""
+    t, kind, r, data = ev
+    if kind not in CAPTIONS:
+        return None
+    try:
+        return CAPTIONS[kind][0].format(r=r, **data)
+    except (KeyError, IndexError):
+        return kind.replace("_", " ")
+
+
 COLOURS = {  # by mode
     Mode.EXPLORE: "#2ca02c",   # -1 initial exploration: green
     Mode.SEED: "#d62728",      # seed: red
@@ -46,6 +83,8 @@ class Frame:
     lines: int = 1
     layer: np.ndarray | None = None   # struct_layer (-1 free): top-view shade, side-view height
     shell: tuple = ()                 # robots in the feet of a tapering arch (OPEN = -1 slots)
+    events: tuple = ()                # the events since the previous frame (t_s, kind, robot, data)
+    captions: tuple = ()              # captions of the events of the last CAPTION_S seconds
 
 
 @dataclass
@@ -55,14 +94,21 @@ class Recorder:
     every_s: float = 0.5
     frames: list = field(default_factory=list)
     _next: float = 0.0
+    _seen: int = 0
+    _recent: list = field(default_factory=list)
 
     def __call__(self, s: SwarmState) -> None:
         if s.t_s + 1e-9 >= self._next or s.phase >= 4:
             st = s.structure
+            new = tuple(s.events[self._seen:])
+            self._seen = len(s.events)
+            self._recent = [(t, c) for t, c in self._recent if t >= s.t_s - CAPTION_S]
+            self._recent += [(e[0], c) for e in new if (c := caption(e)) is not None]
             self.frames.append(Frame(s.t_s, s.x_cm.copy(), s.y_cm.copy(), s.heading_rad.copy(), s.mode.copy(),
                                      thesis_state(s), st.members if st else (), st.front_s_cm if st else None,
                                      s.seed_robot, st.lines * st.layers if st else 1, st.lines if st else 1,
-                                     s.struct_layer.copy(), st.shell if st else ()))
+                                     s.struct_layer.copy(), st.shell if st else (), new,
+                                     tuple(f"t={t:.1f} s  {c}" for t, c in self._recent[-3:])))
             self._next = s.t_s + self.every_s
 
 
@@ -93,7 +139,7 @@ class Renderer:
 
         self.p = p
         self.Rectangle = Rectangle
-        self.fig = fig = plt.figure(figsize=(10, 7.2), dpi=80)
+        self.fig = fig = plt.figure(figsize=(10, 7.6), dpi=100, layout="constrained")
         gs = fig.add_gridspec(2, 1, height_ratios=[4, 1])
         self.ax = ax = fig.add_subplot(gs[0])
         ax.add_patch(Rectangle((0, 0), p.arena_w_cm, p.arena_h_cm, fill=False, lw=1.5, ec="k"))
@@ -110,11 +156,12 @@ class Renderer:
         ax.set_aspect("equal")
         ax.set_xlabel("x (cm)")
         ax.set_ylabel("y (cm)")
-        self.title = ax.set_title("t = 0000.00 s structure 000 states -1:000 -2:000 -3:000", fontsize=9)
+        self.title = ax.set_title(" ", fontsize=10, loc="left")
+        self.caption = ax.text(0.99, 0.98, "", transform=ax.transAxes, ha="right", va="top", fontsize=9,
+                               bbox={"boxstyle": "round", "fc": "white", "ec": "0.6", "alpha": 0.85})
         handles = [Rectangle((0, 0), 1, 1, color=c) for c in COLOURS.values()]
-        ax.legend(handles, ["explore -1", "seed", "recruit", "structure 1..n", "target -2", "retreat -3",
-                            "stopped"], fontsize=6, loc="upper left", ncol=7, frameon=False,
-                  bbox_to_anchor=(0, -0.08))
+        fig.legend(handles, [MODE_NAMES[m] for m in COLOURS], fontsize=9, loc="outside lower center", ncol=7,
+                   frameon=False)
         self.sv = sv = fig.add_subplot(gs[1])
         L = p.robot_length_cm
         self.H = 0.85 * L
@@ -132,7 +179,6 @@ class Renderer:
         sv.set_yticks([])
         sv.set_xlabel("side view along the structure (cm)")
         self.texts: list = []
-        fig.tight_layout()
 
     def update(self, f: Frame):
         p, L, H = self.p, self.p.robot_length_cm, self.H
@@ -157,10 +203,10 @@ class Renderer:
                 if i >= 0 and (m % f.row_size) < f.lines:  # label the ground layer with the row number
                     self.texts.append(self.ax.text(f.x[i], f.y[i], str(m // f.row_size + 1), ha="center",
                                                    va="center", fontsize=6, color="w"))
-        counts = {k: int((f.state == k).sum()) for k in (-1, -2, -3)}
-        n_struct = int(len(slots) + len(shell))
-        self.title.set_text(f"{p.preset}  N={p.robots}  void={p.void_width} widths  t = {f.t_s:7.2f} s   "
-                            f"structure {n_struct}  states -1:{counts[-1]} -2:{counts[-2]} -3:{counts[-3]}")
+        self.title.set_text(f"{p.preset}  N = {p.robots}  void {p.void_width} widths   t = {f.t_s:7.2f} s\n"
+                            + header_counts(f.mode))
+        self.caption.set_text("\n".join(f.captions))
+        self.caption.set_visible(bool(f.captions))
         # side view: every structure robot at (x, layer); the taper and both feet show
         side, scol, top = [], [], 0
         x0, x1 = p.void_x0_cm, p.void_x1_cm
@@ -184,6 +230,13 @@ class Renderer:
         import matplotlib.pyplot as plt
 
         plt.close(self.fig)
+
+
+def header_counts(mode: np.ndarray) -> str:
+    """Robots per mode, named as in the legend (seed and recruits counted with the structure
+    they are part of or joining only by their own names)."""
+    parts = [f"{MODE_NAMES[m]} {int((mode == m).sum())}" for m in COLOURS if (mode == m).any()]
+    return "   ".join(parts)
 
 
 def draw(f: Frame, p: Params) -> Renderer:
@@ -213,7 +266,8 @@ def write_video(frames: list, p: Params, path: str | os.PathLike, fps: int = 10,
     tmp = _atomic_target(path)
     rend = Renderer(p)
     try:
-        kw = {"fps": fps, "macro_block_size": 1} if ext == ".mp4" else {"duration": 1.0 / fps, "loop": 0}
+        # imageio's GIF writer (pillow) takes the frame delay in milliseconds
+        kw = {"fps": fps, "macro_block_size": 1} if ext == ".mp4" else {"duration": 1000.0 / fps, "loop": 0}
         with imageio.get_writer(tmp, format="FFMPEG" if ext == ".mp4" else "GIF", **kw) as w:
             for f in progress(frames, len(frames)):
                 fig = rend.update(f)
@@ -229,12 +283,40 @@ def write_video(frames: list, p: Params, path: str | os.PathLike, fps: int = 10,
     return path
 
 
+def snapshot_frames(frames: list, count: int) -> list[int]:
+    """Indices of the frames worth a snapshot: the first and the last, then the frames of the
+    run's events (seed, landing, switches, first release, retreat, target found, dissolved;
+    evenly thinned when there are more than ``count``), topped up with evenly spaced frames."""
+    n = len(frames)
+    if n == 0 or count < 1:
+        return []
+    ends = sorted({0, n - 1})[:count]
+    marks, seen = [], set()
+    for i, f in enumerate(frames):
+        for e in f.events:
+            kind = e[1]
+            if CAPTIONS.get(kind, ("", False))[1] and (kind != "release_front" or kind not in seen):
+                seen.add(kind)
+                marks.append(i)
+    marks = [i for i in dict.fromkeys(marks) if i not in ends]
+    room = count - len(ends)
+    if len(marks) > room:
+        marks = [marks[int(k)] for k in np.linspace(0, len(marks) - 1, room).round().astype(int)] if room else []
+    idx = set(ends) | set(marks)
+    for i in np.linspace(0, n - 1, count).round().astype(int):  # top up, evenly spaced
+        if len(idx) >= min(count, n):
+            break
+        idx.add(int(i))
+    return sorted(idx)
+
+
 def write_snapshots(frames: list, p: Params, directory: str | os.PathLike, count: int = 6,
                     progress=lambda it, total: it) -> list[Path]:
-    """PNG snapshots at ``count`` evenly spaced times (first and last included)."""
+    """PNG snapshots (150 dpi) at the run's events (:func:`snapshot_frames`); file names carry
+    the simulated time."""
     d = Path(directory)
     d.mkdir(parents=True, exist_ok=True)
-    idx = sorted(set(np.linspace(0, len(frames) - 1, min(count, len(frames))).round().astype(int)))
+    idx = snapshot_frames(frames, count)
     out = []
     rend = Renderer(p)
     for i in progress(idx, len(idx)):
@@ -242,7 +324,7 @@ def write_snapshots(frames: list, p: Params, directory: str | os.PathLike, count
         fig = rend.update(f)
         target = d / f"t{f.t_s:09.2f}s.png"
         tmp = _atomic_target(target)
-        fig.savefig(tmp, format="png")
+        fig.savefig(tmp, format="png", dpi=150)
         os.chmod(tmp, 0o644)
         os.replace(tmp, target)
         out.append(target)
