@@ -241,3 +241,77 @@ def test_what_a_swarm_can_cross_is_computed_from_the_record_and_moves_with_it(re
     out, _ = report
     text = "".join(p.read_text() for p in out.glob("*.md"))
     assert "What a swarm of 70 robots can cross" in text
+
+
+def test_an_image_linked_from_an_included_markdown_file_is_rendered_not_printed(small_db, tmp_path):
+    """structure_fem writes `![tip deflection ...](file.png)` in its Markdown: the report shows the
+    picture where the text puts it (relinked to the copied asset), never the raw link."""
+    fem = tmp_path / "fem"
+    (fem / "plots").mkdir(parents=True)
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots()
+    ax.plot([0, 1])
+    fig.savefig(fem / "plots" / "tip.png")
+    plt.close(fig)
+    (fem / "table.md").write_text("# Table\n\n![tip deflection per width](plots/tip.png)\n\nsome text\n")
+    out = tmp_path / "r"
+    build_report(small_db, out, fem_dir=fem, limits="thesis")
+    html = (out / "index.html").read_text()
+    assert "![" not in html
+    srcs = _img_srcs(out / "index.html")
+    assert srcs.count("assets/fem/plots/tip.png") == 1 and (out / "assets/fem/plots/tip.png").is_file()
+    assert "](assets/fem/plots/tip.png)" in (out / "report.md").read_text()
+
+
+def test_every_figure_has_its_numbers_beside_it_and_files_are_world_readable(report):
+    out, _ = report
+    pngs = sorted((out / "figures").glob("*.png"))
+    assert pngs
+    for png in pngs:
+        csv = png.with_suffix(".csv")
+        assert csv.is_file() and len(csv.read_text().splitlines()) >= 2, png.name
+    html = (out / "index.html").read_text()
+    assert html.count("data, CSV</a>") == len(pngs)
+    for f in (out / "index.html", out / "report.md", pngs[0]):
+        assert f.stat().st_mode & 0o777 == 0o644, f
+    import csv as _csv
+
+    rows = list(_csv.DictReader(open(out / "figures" / "case-a-success.csv")))
+    assert {"swarm_size", "void_width", "runs", "crossed"} <= set(rows[0])
+    assert sum(int(r["runs"]) for r in rows) == 4 * 5 * 3  # 4 sizes x 5 widths x 3 runs
+
+
+def test_one_labelled_n_min_per_structure(report):
+    """The limits table names the launch rule's N_min and the record's complete-structure count
+    apart, and the reach table quotes the launch rule (the 4x2 arch's "needs" equals its N_min)."""
+    out, _ = report
+    html = (out / "index.html").read_text()
+    assert "N_min (launch rule)" in html and "complete structure (record)" in html
+    from structure_fem.limits import thesis_limits
+    from voidcross.report.build import launch_min, swarm_reach
+
+    lim = thesis_limits()
+    r = swarm_reach(lim, 70)
+    assert r["next_needs"] == launch_min(lim, r["next"])
+
+
+def test_figures_are_150_dpi_with_integer_ticks_on_counted_axes(report):
+    from PIL import Image
+
+    out, _ = report
+    with Image.open(out / "figures" / "case-a-success.png") as im:
+        assert round(im.info["dpi"][0]) == 150 and im.size[0] >= 900
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from voidcross.report import figures as F
+
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots()
+    ax.plot([3, 4], [0, 1])
+    F._integer(ax.xaxis)
+    fig.canvas.draw()
+    assert all(float(t).is_integer() for t in ax.get_xticks())
+    plt.close(fig)

@@ -8,6 +8,7 @@ files in ``thesis_data/`` and are always labelled as the thesis's.
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import tempfile
 import time
@@ -34,6 +35,7 @@ def _write_atomic(path: Path, text: str) -> None:
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
     with os.fdopen(fd, "w") as fh:
         fh.write(text)
+    os.chmod(tmp, 0o644)  # mkstemp makes 0600: a report is for others to read
     os.replace(tmp, path)
 
 
@@ -65,22 +67,45 @@ def _limits_section(limits: dict, notes: list[str], fig_dir: Path, rel: str) -> 
                  "kept to reproduce its experiments. Both are shown; they are never blended."))
     for n in notes:
         sec.add(Note(n))
+    sec.add(Para("Two swarm sizes per structure, named apart: **N_min (launch rule)** is the smallest swarm "
+                 "the simulator's counting rule lets build the structure over the void (rows widened at each "
+                 "switch; the number every other table and figure here uses), and **complete structure "
+                 "(record)** is the limits record's own count, the robots of the whole structure standing "
+                 "over the void (the thesis's count for its arches)."))
     for label, lim in limits.items():
         rows = []
         for lvl in lim.levels:
             defl = "–" if lvl.max_deflection_mm is None else f"{lvl.max_deflection_mm:.2f}"
             tip = "–" if lvl.min_tipping_factor is None else f"{lvl.min_tipping_factor:.2f}"
             mr = lvl.min_robots
+            rule = [launch_min(lim, w) for w in (lvl.min_span_widths, lvl.max_span_widths)]
             rows.append([lvl.name, lvl.kind, f"{lvl.lines} x {lvl.layers}",
-                         f"{lvl.min_span_widths}-{lvl.max_span_widths}",
-                         f"{mr[0]}" + (f"-{mr[-1]}" if len(mr) > 1 else ""), defl, tip])
-        sec.add(Table(["structure", "kind", "lines x layers", "void widths", "N_min", "sag at widest (mm)",
-                       "tipping factor"], rows,
+                         f"{lvl.min_span_widths}-{lvl.max_span_widths}", _span(rule),
+                         _span((mr[0], mr[-1])), defl, tip])
+        sec.add(Table(["structure", "kind", "lines x layers", "void widths", "N_min (launch rule)",
+                       "complete structure (record)", "sag at widest (mm)", "tipping factor"], rows,
                       f"{label} limits (source {lim.source}, robot {lim.robot}, clearance {lim.clearance_mm:g} mm)"))
     if len(limits) >= 1:
-        F.limits_plot(limits, fig_dir / "limits.png")
+        rule = {label: {w: launch_min(lim, w) for w in range(1, min(30, lim.max_span_widths) + 1)}
+                for label, lim in limits.items()}
+        F.limits_plot(limits, fig_dir / "limits.png", rule=rule)
         sec.add(Figure(f"{rel}/limits.png", "Minimum swarm size per void width, derived and thesis limits"))
     return sec
+
+
+def _span(v) -> str:
+    return f"{v[0]}" if v[0] == v[-1] else f"{v[0]}-{v[-1]}"
+
+
+def launch_min(lim, width: int, preset: str = "large-void") -> int:
+    """N_min of the simulator's counting rule for a ``width``-wide void under ``lim`` (the
+    switching structure of ``preset``): the one swarm-size minimum the report quotes."""
+    from dataclasses import replace
+
+    from swarm_sim.params import load_preset, with_limits
+
+    p = with_limits(replace(load_preset(preset), void_width=width, structure="switch"), lim)
+    return max(p.min_robots_rule, 2)
 
 
 def boundaries_for(preset: str, limits: dict, widths: list[int]) -> dict[str, dict[int, int]]:
@@ -196,15 +221,7 @@ def swarm_reach(lim, robots: int, preset: str = "large-void") -> dict:
     Computed from the record and the simulator's rule (rows widened at each switch), never
     looked up: ``{"widest": w or 0, "next": w + 1 or None, "next_structure", "next_needs"}``.
     """
-    from dataclasses import replace
-
-    from swarm_sim.params import load_preset, with_limits
-
-    base = load_preset(preset)
-    need = {}
-    for w in range(1, lim.max_span_widths + 1):
-        p = with_limits(replace(base, void_width=w, structure="switch"), lim)
-        need[w] = max(p.min_robots_rule, 2)
+    need = {w: launch_min(lim, w, preset) for w in range(1, lim.max_span_widths + 1)}
     widest = 0
     for w in range(1, lim.max_span_widths + 1):
         if need[w] > robots:
@@ -266,6 +283,8 @@ def _large_void_section(rs: RunSet, fig_dir: Path, rel: str, limits: dict | None
         if has:
             sec.add(Figure(f"{rel}/{name}-asm.png", f"{preset}: assembly and disassembly time (cf. Fig. 5.13)"))
         else:
+            for f in (fig_dir / f"{name}-asm.png", fig_dir / f"{name}-asm.csv"):
+                f.unlink(missing_ok=True)  # not shown: not left behind either
             sec.add(Note(f"{preset}: the runs do not record separate assembly/disassembly times "
                          "(Fig. 5.13); T_a above covers both."))
     return sec
@@ -286,18 +305,41 @@ def _copy_assets(src_dir: Path | None, out: Path, sub: str, what: str, title: st
         sec.add(Note(f"{src_dir} holds no .md or .png files."))
         return sec
     sec.add(Para(f"Included from `{src_dir}`: {len(mds)} Markdown file(s), {len(pngs)} image(s)."))
+    shown = set()
     for md in mds:
-        sec.add(MarkdownText(md.read_text(errors="replace"), str(md.relative_to(src_dir))))
+        text, used = _relink(md.read_text(errors="replace"), md.parent.relative_to(src_dir), f"assets/{sub}")
+        shown |= used
+        sec.add(MarkdownText(text, str(md.relative_to(src_dir))))
     dst_root = out / "assets" / sub
     for p in pngs[:MAX_ASSETS]:
         rel = p.relative_to(src_dir)
         dst = dst_root / rel
         dst.parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(p, dst)
-        sec.add(Figure(f"assets/{sub}/{rel.as_posix()}", f"{what}: {rel.as_posix()}"))
+        if rel.as_posix() not in shown:  # already shown where its Markdown placed it
+            sec.add(Figure(f"assets/{sub}/{rel.as_posix()}", f"{what}: {rel.as_posix()}"))
     if len(pngs) > MAX_ASSETS:
         sec.add(Para(f"... {len(pngs) - MAX_ASSETS} more images in `{src_dir}` not copied."))
     return sec
+
+
+_IMG = re.compile(r"!\[([^\]]*)\]\(([^)\s]+)\)")
+
+
+def _relink(text: str, md_dir: Path, prefix: str) -> tuple[str, set[str]]:
+    """Point the relative image links of an included Markdown file (``md_dir`` relative to its
+    source root) at the copies under ``prefix``; returns the text and the images linked."""
+    used: set[str] = set()
+
+    def sub(m):
+        src = m.group(2)
+        if re.match(r"^[a-z]+:|^/", src):
+            return m.group(0)
+        rel = (md_dir / src).as_posix()
+        used.add(rel)
+        return f"![{m.group(1)}]({prefix}/{rel})"
+
+    return _IMG.sub(sub, text), used
 
 
 def _errors_section(rs: RunSet) -> Section:
@@ -320,7 +362,7 @@ def build_report(db, out, fem_dir=None, cad_dir=None, limits=None) -> dict:
     out = Path(out)
     fig_dir = out / "figures"
     fig_dir.mkdir(parents=True, exist_ok=True)
-    for old in fig_dir.glob("*.png"):
+    for old in [*fig_dir.glob("*.png"), *fig_dir.glob("*.csv")]:
         old.unlink()
     rel = "figures"
     lims, notes = limits_sets(limits)
@@ -344,6 +386,10 @@ def build_report(db, out, fem_dir=None, cad_dir=None, limits=None) -> dict:
                                  "Structure selection and deflection (structure_fem)"))
     sections.append(_copy_assets(cad_dir, out, "cad", "CAD render", "Robot and connector renders (cubot_cad)"))
     sections.append(_errors_section(rs))
+    for sec in sections:  # each figure's numbers beside it
+        for b in sec.blocks:
+            if isinstance(b, Figure) and (out / b.src).with_suffix(".csv").is_file():
+                b.data = str(Path(b.src).with_suffix(".csv").as_posix())
     title = "voidcross report"
     html_path, md_path = out / "index.html", out / "report.md"
     _write_atomic(html_path, to_html(title, intro, sections))

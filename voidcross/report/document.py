@@ -34,6 +34,7 @@ class Table:
 class Figure:
     src: str  # relative to the report directory
     caption: str
+    data: str | None = None  # the plotted numbers (CSV), relative to the report directory
 
 
 @dataclass
@@ -90,7 +91,8 @@ def _md_block(b) -> list[str]:
         lines += ["| " + " | ".join(_md_cell(c) for c in row) + " |" for row in b.rows]
         return lines + [""]
     if isinstance(b, Figure):
-        return [f"![{b.caption}]({b.src})", "", f"*{b.caption}*", ""]
+        data = f" ([data]({b.data}))" if b.data else ""
+        return [f"![{b.caption}]({b.src})", "", f"*{b.caption}*{data}", ""]
     if isinstance(b, MarkdownText):
         text = re.sub(r"^(#+)", lambda m: "#" * min(6, len(m.group(1)) + 2), b.text, flags=re.M)
         return ([f"*From `{b.source}`:*", ""] if b.source else []) + [text.strip(), ""]
@@ -159,6 +161,10 @@ def markdown_to_html(text: str) -> str:
             if para:
                 flush()
             table.append(line)
+        elif m := re.fullmatch(r"\s*!\[([^\]]*)\]\(([^)\s]+)\)\s*", line):
+            flush()
+            out.append(f'<figure><img src="{html.escape(m.group(2))}" alt="{html.escape(m.group(1))}" '
+                       f'loading="lazy"><figcaption>{_inline(m.group(1))}</figcaption></figure>')
         elif m := re.match(r"^(#{1,6})\s+(.*)", line):
             flush()
             lvl = min(6, len(m.group(1)) + 2)
@@ -197,8 +203,9 @@ def _html_block(b) -> str:
     if isinstance(b, Table):
         return _html_table(b.headers, b.rows, b.caption)
     if isinstance(b, Figure):
+        data = f' (<a href="{html.escape(b.data)}">data, CSV</a>)' if b.data else ""
         return (f'<figure><img src="{html.escape(b.src)}" alt="{html.escape(b.caption)}" loading="lazy">'
-                f"<figcaption>{_inline(b.caption)}</figcaption></figure>")
+                f"<figcaption>{_inline(b.caption)}{data}</figcaption></figure>")
     if isinstance(b, MarkdownText):
         src = f"<p><i>From <code>{html.escape(b.source)}</code>:</i></p>" if b.source else ""
         return src + markdown_to_html(b.text)
