@@ -183,7 +183,7 @@ def call(tk: Tick, slot_ids: list[int]) -> list[int]:
     tk.mode[chosen] = _RECRUIT
     n = len(chosen)
     tk.st = replace(st, action="recruit", recruits=tuple(chosen), recruit_slots=tuple(slot_ids[:n]),
-                    recruit_since_s=tk.t, recruit_best_cm=(math.inf,) * n, recruit_progress_s=(tk.t,) * n,
+                    recruit_best_cm=(math.inf,) * n, recruit_progress_s=(tk.t,) * n,
                     recruit_final=(False,) * n)
     tk.ev("recruit", chosen[0], n=len(st.members), robots=chosen)
     return chosen

@@ -68,7 +68,6 @@ class Structure:
     wait_until_s: float = 0.0
     recruits: tuple[int, ...] = ()   # robots called for the rear slots, in slot order
     recruit_slots: tuple[int, ...] = ()  # the slot each recruit docks at (row-major member index)
-    recruit_since_s: float = 0.0
     #: per recruit: the shortest remaining path seen (cm) and when it last shortened (s)
     recruit_best_cm: tuple[float, ...] = ()
     recruit_progress_s: tuple[float, ...] = ()
