@@ -58,6 +58,23 @@ def execute_run(run_fn: RunFn | str, key: dict) -> dict:
                 "error": traceback.format_exc(), "wall_s": time.perf_counter() - t0, "worker": worker_id()}
 
 
+def execute_batch(run_fn: RunFn | str, keys: list[dict]) -> list[dict]:
+    """Run a batch of keys in one task (one round trip and one pickled run function per batch,
+    not per run); outcomes in key order, each as :func:`execute_run` gives it."""
+    fn = resolve_run_fn(run_fn)
+    return [execute_run(fn, k) for k in keys]
+
+
+#: runs per task handed to a worker: few enough that Ctrl-C loses at most a few runs per worker
+DEFAULT_BATCH = 4
+
+
+def _batches(keys: Iterable[dict], size: int) -> Iterator[list[dict]]:
+    it = iter(keys)
+    while batch := [k for _, k in zip(range(size), it)]:
+        yield batch
+
+
 def _worker_init() -> None:
     """Workers ignore Ctrl-C (the parent handles it) and die with the parent (Linux)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -84,11 +101,12 @@ class LocalExecutor:
 
     name = "local"
 
-    def __init__(self, workers: int | None = None):
+    def __init__(self, workers: int | None = None, batch: int = DEFAULT_BATCH):
         n = workers or os.cpu_count() or 1
         if n < 1:
             raise InputError(f"--workers {workers}: must be >= 1")
         self.workers = n
+        self.batch = _check_batch(batch)
         self._pool: cf.ProcessPoolExecutor | None = None
 
     def __enter__(self):
@@ -133,23 +151,23 @@ class LocalExecutor:
     def run(self, run_fn: RunFn | str, keys: Iterable[dict], window: int | None = None
             ) -> Iterator[tuple[dict, dict]]:
         assert self._pool is not None, "use LocalExecutor as a context manager"
-        window = window or 2 * self.workers
-        it = iter(keys)
-        inflight: dict[cf.Future, dict] = {}
+        window = window or 2 * self.workers  # batches in flight
+        it = _batches(keys, self.batch)
+        inflight: dict[cf.Future, list[dict]] = {}
 
         def fill():
             while len(inflight) < window:
-                k = next(it, None)
-                if k is None:
+                b = next(it, None)
+                if b is None:
                     return
-                inflight[self._pool.submit(execute_run, run_fn, k)] = k
+                inflight[self._pool.submit(execute_batch, run_fn, b)] = b
 
         fill()
         while inflight:
             done, _ = cf.wait(inflight, return_when=cf.FIRST_COMPLETED)
             for fut in done:
-                key = inflight.pop(fut)
-                yield key, fut.result()  # BrokenProcessPool propagates: a worker died
+                batch = inflight.pop(fut)
+                yield from zip(batch, fut.result(), strict=True)  # BrokenProcessPool propagates
             fill()
 
 
@@ -159,7 +177,9 @@ class DaskExecutor:
 
     name = "dask"
 
-    def __init__(self, address: str | None = None, workers: int | None = None, processes: bool = True):
+    def __init__(self, address: str | None = None, workers: int | None = None, processes: bool = True,
+                 batch: int = DEFAULT_BATCH):
+        self.batch = _check_batch(batch)
         try:
             import distributed  # noqa: F401
         except ImportError:
@@ -201,31 +221,31 @@ class DaskExecutor:
         from distributed import as_completed
 
         assert self.client is not None, "use DaskExecutor as a context manager"
-        window = window or 4 * max(1, self.workers or 1)  # keep workers fed across round trips
-        it = iter(keys)
+        window = window or 4 * max(1, self.workers or 1)  # batches in flight: workers fed across round trips
+        it = _batches(keys, self.batch)
         inflight: dict = {}
 
-        def submit(k):
-            fut = self.client.submit(execute_run, run_fn, k, pure=False)
-            inflight[fut] = k
+        def submit(b):
+            fut = self.client.submit(execute_batch, run_fn, b, pure=False)
+            inflight[fut] = b
             return fut
 
         first = []
         for _ in range(window):
-            k = next(it, None)
-            if k is None:
+            b = next(it, None)
+            if b is None:
                 break
-            first.append(submit(k))
+            first.append(submit(b))
         ac = as_completed(first)
         try:
             for fut in ac:
-                key = inflight.pop(fut)
-                outcome = fut.result()
+                batch = inflight.pop(fut)
+                outcomes = fut.result()
                 fut.release()
-                yield key, outcome
-                k = next(it, None)
-                if k is not None:
-                    ac.add(submit(k))
+                yield from zip(batch, outcomes, strict=True)
+                b = next(it, None)
+                if b is not None:
+                    ac.add(submit(b))
         finally:
             if inflight:
                 self.client.cancel(list(inflight))
@@ -253,13 +273,21 @@ class SerialExecutor:
             yield k, execute_run(fn, k)
 
 
-def make_executor(kind: str = "local", workers: int | None = None, address: str | None = None):
+def _check_batch(batch) -> int:
+    if isinstance(batch, bool) or not isinstance(batch, int) or not 1 <= batch <= 10_000:
+        raise InputError(f"--batch {batch!r}: runs per worker task must be an integer in 1..10000")
+    return batch
+
+
+def make_executor(kind: str = "local", workers: int | None = None, address: str | None = None,
+                  batch: int = DEFAULT_BATCH):
+    """``batch``: runs handed to a worker per task (local and dask)."""
     if kind == "local":
         if address:
             raise InputError(f"--address {address}: only meaningful with --executor dask")
-        return LocalExecutor(workers)
+        return LocalExecutor(workers, batch=batch)
     if kind == "dask":
-        return DaskExecutor(address=address, workers=workers)
+        return DaskExecutor(address=address, workers=workers, batch=batch)
     if kind == "serial":
         return SerialExecutor()
     raise InputError(f"--executor {kind!r}: choose local or dask")

@@ -216,7 +216,9 @@ def test_address_without_dask_is_bad_input(cli, tmp_path):
 
 def test_dead_worker_is_an_internal_failure_that_keeps_stored_runs(cli, tmp_path):
     db = tmp_path / "w.sqlite"
-    res = cli(*BASE, "--robots", "3-6", "--void-width", "1", "--runs", "4", "--workers", "1",
+    # one run per task: the runs before the one that kills its worker are stored (with batches,
+    # a dead worker takes its unfinished batch with it; --resume re-runs them)
+    res = cli(*BASE, "--robots", "3-6", "--void-width", "1", "--runs", "4", "--workers", "1", "--batch", "1",
               "--set", "exit_on_seed=3", "--db", str(db))
     assert res.code == 1 and "worker process died" in res.err and "--resume" in res.err
     stored = rows(db)

@@ -50,14 +50,15 @@ def build_spec(args):
                      max_time_s=args.max_time_s, overrides=parse_set(args.set))
 
 
-def execute_plan(plan, executor, workers, address, desc: str):
-    """Run a prepared plan with a progress bar; returns the summary (interrupted=True on Ctrl-C)."""
-    from swarm_sim.sweeps.executors import make_executor
+def execute_plan(plan, executor, workers, address, desc: str, batch: int | None = None):
+    """Run a prepared plan with a progress bar; returns the summary (interrupted=True on Ctrl-C).
+    ``batch``: runs per worker task (default :data:`swarm_sim.sweeps.executors.DEFAULT_BATCH`)."""
+    from swarm_sim.sweeps.executors import DEFAULT_BATCH, make_executor
 
     t0 = time.perf_counter()
     try:
         if plan.todo:
-            with make_executor(executor, workers=workers, address=address) as ex:
+            with make_executor(executor, workers=workers, address=address, batch=batch or DEFAULT_BATCH) as ex:
                 for _ in progress(plan.execute(ex), desc=desc, total=len(plan.todo)):
                     pass
     except KeyboardInterrupt:
@@ -94,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
     plan = prepare_sweep(spec, args.db, resume=args.resume, retry_errors=args.retry_errors,
                          run_fn=args.run_fn)
-    s = execute_plan(plan, args.executor, args.workers, args.address,
+    s = execute_plan(plan, args.executor, args.workers, args.address, batch=args.batch,
                      desc=f"sweep {spec.preset} ({plan.summary.already_stored} stored)")
     stored = s.already_stored + s.ok + s.errors
     human = (f"sweep {s.sweep_id} -> {s.db}: {stored}/{s.planned} runs stored "
@@ -198,6 +199,9 @@ def register(sub, common) -> None:
     p.add_argument("--executor", choices=("local", "dask"), default="local")
     p.add_argument("--address", help="Dask scheduler, e.g. tcp://HOST:8786 (default: a local cluster)")
     p.add_argument("--workers", type=_positive_int, help="worker processes (default: CPU count)")
+    p.add_argument("--batch", type=_positive_int, default=None,
+                   help="runs handed to a worker per task (default 4: one round trip per batch; Ctrl-C "
+                        "loses at most the unfinished batches)")
     p.add_argument("--resume", action="store_true", help="complete the sweep already in --db")
     p.add_argument("--retry-errors", action="store_true", help="with --resume: re-run runs that raised")
     p.add_argument("--dry-run", action="store_true",

@@ -212,3 +212,27 @@ def test_any_sequence_of_interruptions_gives_the_uninterrupted_result(tmp_path_f
             con.close()
 
     assert table(db) == table(d / "ref.sqlite")
+
+
+def test_workers_get_runs_in_batches_and_every_run_comes_back_once(tmp_path, monkeypatch):
+    """One task per batch of runs (one round trip, one pickled run function), never per run;
+    a short last batch; every key's outcome paired with its key."""
+    from swarm_sim.sweeps import executors as E
+
+    keys = [{"preset": "case-d", "robots": 3, "void_width": 1, "seed": s, "limits": "thesis"} for s in range(10)]
+    ex = E.LocalExecutor(workers=2, batch=3)
+    with ex:
+        sizes = []
+        real = ex._pool.submit
+
+        def counting(fn, run_fn, batch):
+            sizes.append(len(batch))
+            return real(fn, run_fn, batch)
+
+        monkeypatch.setattr(ex._pool, "submit", counting)
+        out = list(ex.run(SYNTH, keys))
+    assert sorted(sizes) == [1, 3, 3, 3]
+    assert sorted(k["seed"] for k, _ in out) == list(range(10))
+    assert all(o["status"] == "ok" and o["result"]["seed"] == k["seed"] for k, o in out)
+    with pytest.raises(InputError, match="--batch 0"):
+        E.LocalExecutor(workers=1, batch=0)
