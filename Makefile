@@ -67,3 +67,11 @@ lint: $(STAMP)
 
 clean-venv:
 	rm -rf $(VENV)
+
+# API reference of voidcross.api (and the records it returns) from the docstrings, as HTML in docs/api/
+# (pdoc, from the dev extra; docs/api.md is the hand-written guide)
+.PHONY: api-docs
+api-docs: $(STAMP)
+	rm -rf docs/api
+	$(BIN)/pdoc --docformat google --no-show-source -o docs/api voidcross.api swarm_sim.runner structure_fem.limits
+	@echo "wrote docs/api/index.html"
