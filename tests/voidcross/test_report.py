@@ -315,3 +315,63 @@ def test_figures_are_150_dpi_with_integer_ticks_on_counted_axes(report):
     fig.canvas.draw()
     assert all(float(t).is_integer() for t in ax.get_xticks())
     plt.close(fig)
+
+
+def test_the_report_plays_a_run_and_draws_the_3d_model_in_headless_chromium(small_db, tmp_path, require_tool):
+    """The interactive parts (issue 17): the player loads with no script or resource error,
+    advances frames when played, marks the run's events, shows a clicked robot's state; the
+    GLB (here a box written by trimesh) is drawn by the vendored three.js."""
+    require_tool(CHROMIUM, "chromium")
+    import trimesh
+
+    cad = tmp_path / "cad"
+    cad.mkdir()
+    trimesh.creation.box((120, 120, 100)).export(cad / "cubot.glb")
+    out = tmp_path / "r"
+    build_report(small_db, out, cad_dir=cad, limits="thesis",
+                 watch={"preset": "case-d", "robots": 5, "void_width": 1, "seed": 1, "limits": "thesis"})
+    assert (out / "vendor" / "three-0.147.0" / "three.min.js").is_file()  # no network at view time
+    js = ("<script>window.addEventListener('load',function(){var P=window.vcPlayer,r={};r.n=P.n;r.marks=P.marks;"
+          "P.play();setTimeout(function(){r.frame=P.frame();P.pause();P.select(0);r.info=P.info();"
+          "r.models=window.vcModels;r.errors=document.body.dataset.vcErrors||'';"
+          "document.title='PROBE:'+JSON.stringify(r)},3000)})</script>")
+    probe = out / "_probe.html"
+    probe.write_text((out / "index.html").read_text().replace("</body>", js + "</body>"))
+    with tempfile.TemporaryDirectory() as prof:
+        res = subprocess.run(
+            [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
+             "--enable-unsafe-swiftshader", "--disable-background-networking", "--no-first-run",
+             f"--user-data-dir={prof}", "--virtual-time-budget=10000", "--dump-dom", probe.as_uri()],
+            capture_output=True, text=True, timeout=120)
+    m = re.search(r"<title>PROBE:([^<]*)</title>", res.stdout)
+    assert m, res.stderr[-2000:]
+    import html as _html
+    import json
+
+    r = json.loads(_html.unescape(m.group(1)))
+    assert r["errors"] == "", r["errors"]
+    assert r["n"] > 10 and r["frame"] > 0 and r["marks"] >= 3  # seed, landing, releases ...
+    assert r["info"].startswith("robot 0: ") and " cm" in r["info"]
+    assert r["models"] == {"count": 1, "drawn": 1}
+
+
+def test_a_recorded_run_is_a_compact_record_of_the_run(tmp_path):
+    from voidcross.report import viewer as V
+
+    run = V.record_run("case-d", 5, 1, 1, "thesis", every_s=1.0)
+    n = len(run["t_s"])
+    assert n >= 10 and all(len(run[k]) == n for k in ("x_cm", "y_cm", "h_rad", "mode", "state", "layer"))
+    assert all(len(row) == 5 for row in run["x_cm"])
+    kinds = [e[1] for e in run["events"]]
+    assert kinds[0] == "seed" and "target_found" in kinds and run["success"]
+    assert run["modes"]["3"] == "in structure"
+    big = V.record_run("case-d", 5, 1, 1, "thesis", every_s=0.1)  # thinned to the cap, the end kept
+    assert len(big["t_s"]) <= V.MAX_FRAMES and big["t_s"][-1] == run["t_s"][-1]
+
+
+@pytest.mark.parametrize("watch,needle", [("case-d,9", "PRESET,ROBOTS,WIDTH,SEED"), ("case-d,x,3,1", "integers"),
+                                          ("case-d,0,3,1", ">= 1"), ("case-d,9,3,-1", "SEED >= 0")])
+def test_a_bad_watch_run_is_one_line_exit_2(cli, small_db, tmp_path, watch, needle):
+    res = cli("report", "--db", str(small_db), "--out", str(tmp_path / "r"), "--watch", watch)
+    assert res.code == 2 and needle in res.error_lines[0] and len(res.error_lines) == 1
+    assert not (tmp_path / "r").exists()

@@ -12,8 +12,9 @@ EPILOG = """examples:
   voidcross report --db results/case-d.sqlite
   voidcross report --db results/case-d.sqlite --out report/ --fem-dir exports/fem --cad-dir exports/cad
   voidcross report --db results/all.sqlite --limits results/pipeline/fem/limits.json --json
+  voidcross report --db results/case-d.sqlite --watch case-d,9,3,1,thesis
 
-Sections: structure limits (derived and thesis), per case the success matrix, mean T_a/T_d/T_t
+Sections: structure limits (derived and thesis), a run played back interactively, per case the success matrix, mean T_a/T_d/T_t
 tables, times vs swarm size (mean, 25/75 %), seed-id / target-finder-id frequencies and seed
 positions; Tables 4.4-4.9 (ours / thesis); large voids (Fig. 5.9-5.13); structure_fem and CAD
 outputs when their directories are given. A section without data says so.
@@ -24,10 +25,32 @@ def run(args: argparse.Namespace) -> int:
     from ..report import build_report
 
     out_dir(args.out, "--out", create=False)  # before reading anything
-    res = build_report(args.db, args.out, fem_dir=args.fem_dir, cad_dir=args.cad_dir, limits=args.limits)
+    res = build_report(args.db, args.out, fem_dir=args.fem_dir, cad_dir=args.cad_dir, limits=args.limits,
+                       watch=parse_watch(args.watch))
     emit(args, res, f"report at {res['html']} (Markdown: {res['markdown']}; {res['figures']} figures, "
                     f"{res['runs']} runs, {res['no_data_notes']} sections without data)")
     return 0
+
+
+def parse_watch(text: str | None):
+    """``--watch``: ``auto`` (a crossing from the database), ``none``, or PRESET,ROBOTS,WIDTH,SEED[,LIMITS]."""
+    from swarm_sim.errors import InputError
+
+    if text is None or text == "auto":
+        return "auto"
+    if text == "none":
+        return None
+    parts = text.split(",")
+    if len(parts) not in (4, 5):
+        raise InputError(f"--watch {text!r}: expected auto, none or PRESET,ROBOTS,WIDTH,SEED[,LIMITS]")
+    try:
+        robots, width, seed = (int(v) for v in parts[1:4])
+    except ValueError:
+        raise InputError(f"--watch {text!r}: ROBOTS, WIDTH and SEED must be integers") from None
+    if robots < 1 or width < 1 or seed < 0:
+        raise InputError(f"--watch {text!r}: ROBOTS and WIDTH must be >= 1 and SEED >= 0")
+    return {"preset": parts[0], "robots": robots, "void_width": width, "seed": seed,
+            "limits": parts[4] if len(parts) == 5 else "derived"}
 
 
 def register(sub, common) -> None:
@@ -41,6 +64,9 @@ def register(sub, common) -> None:
     p.add_argument("--cad-dir", dest="cad_dir", help="cubot_cad output directory (.png renders)")
     p.add_argument("--limits", default=None,
                    help="limits.json to show as the derived limits (default: the packaged derived limits)")
+    p.add_argument("--watch", default="auto", metavar="RUN",
+                   help="the run played back in the page: auto (a crossing from the database, the default), "
+                        "none, or PRESET,ROBOTS,WIDTH,SEED[,LIMITS]")
     p.set_defaults(func=run)
 
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from . import figures as F
 from .data import RunSet, by_point, grid, load_runs, metric_values, summary
-from .document import Figure, MarkdownText, Note, Para, Section, Table, to_html, to_markdown
+from .document import Figure, MarkdownText, Note, Para, Raw, Section, Table, to_html, to_markdown
 from .thesis import thesis_tables
 
 CASE_NAMES = {"case-a": "Case A", "case-b": "Case B", "case-c": "Case C", "case-d": "Case D"}
@@ -342,6 +342,60 @@ def _relink(text: str, md_dir: Path, prefix: str) -> tuple[str, set[str]]:
     return _IMG.sub(sub, text), used
 
 
+def pick_watch_run(rs: RunSet) -> dict | None:
+    """The run the report plays back when none is named: of the first small-void preset (else
+    any), a crossing at the widest void crossed with the fewest robots there."""
+    presets = [p for p in rs.presets() if not p.startswith("large")] or rs.presets()
+    for preset in presets:
+        ok = [r for r in rs.of(preset) if r.success]
+        if ok:
+            best = max(ok, key=lambda r: (r.void_width, -r.robots, -r.seed))
+            return {"preset": preset, "robots": best.robots, "void_width": best.void_width, "seed": best.seed,
+                    "limits": best.limits if best.limits in ("derived", "thesis") else "derived"}
+    return None
+
+
+def _watch_section(watch: dict | None, out: Path) -> Section:
+    from . import viewer as V
+
+    sec = Section("Watch a run")
+    if not watch:
+        sec.add(Note("no crossing in this database to play back (or name one: voidcross report --watch "
+                     "PRESET,ROBOTS,WIDTH,SEED)."))
+        return sec
+    from swarm_sim.errors import InputError as SimInputError
+
+    try:
+        run = V.record_run(watch["preset"], watch["robots"], watch["void_width"], watch["seed"],
+                           watch.get("limits", "derived"))
+    except SimInputError as exc:
+        sec.add(Note(f"the run {watch} cannot be simulated here: {exc}"))
+        return sec
+    sec.add(Para(f"The run re-simulated from its seed (`voidcross sim run --preset {run['preset']} --robots "
+                 f"{run['robots']} --void-width {run['void_width']} --seed {run['seed']} --limits "
+                 f"{run['limits']}`): play it, scrub it, click a robot for its state; the red marks under "
+                 "the bar are the run's events (seed chosen, landing, releases, switches, retreat, target "
+                 "found)."))
+    sec.add(Raw(V.player_html(run), f"Interactive playback: open `index.html` in a browser (the run: "
+                                     f"{run['preset']}, {run['robots']} robots, {run['void_width']}-wide void, "
+                                     f"seed {run['seed']}, {run['end_reason']})."))
+    return sec
+
+
+def _models_section(cad_dir, out: Path) -> Section | None:
+    from . import viewer as V
+
+    glbs = V.find_glbs(Path(cad_dir) if cad_dir else None)
+    sec = Section("Robots and bridge in 3D")
+    if not glbs:
+        sec.add(Note("no GLB models in the CAD directory (`voidcross cad export` writes them)."))
+        return sec
+    rel = V.copy_vendor(out)
+    sec.add(Raw(V.model_html(glbs, rel), "3D models: " + ", ".join(f"`{c}`" for c, _ in glbs)
+                + " (rotatable in `index.html`)."))
+    return sec
+
+
 def _errors_section(rs: RunSet) -> Section:
     sec = Section("Runs that raised")
     if not rs.errors:
@@ -356,8 +410,11 @@ def _errors_section(rs: RunSet) -> Section:
     return sec
 
 
-def build_report(db, out, fem_dir=None, cad_dir=None, limits=None) -> dict:
-    """Write ``out/index.html``, ``out/report.md`` and ``out/figures/*.png``; returns paths and counts."""
+def build_report(db, out, fem_dir=None, cad_dir=None, limits=None, watch: dict | str | None = "auto") -> dict:
+    """Write ``out/index.html``, ``out/report.md`` and ``out/figures/*.png``; returns paths and counts.
+
+    ``watch``: the run played back in the page (``{"preset", "robots", "void_width", "seed",
+    "limits"}``), ``"auto"`` (:func:`pick_watch_run`) or None (no playback)."""
     rs = load_runs(db)  # validates the database first (InputError, nothing written)
     out = Path(out)
     fig_dir = out / "figures"
@@ -376,6 +433,8 @@ def build_report(db, out, fem_dir=None, cad_dir=None, limits=None) -> dict:
                              ", ".join(f"{k}={v}" for k, v in sorted(s["spec"].items()))] for s in rs.sweeps],
                            "sweeps recorded in the database"))
     sections = [_limits_section(lims, notes, fig_dir, rel)]
+    if watch is not None:
+        sections.append(_watch_section(pick_watch_run(rs) if watch == "auto" else watch, out))
     small = [p for p in presets if not p.startswith("large")]
     if not small:
         sections.append(Section("Small voids (cases A-D)").add(Note("no small-void runs in this database.")))
@@ -385,6 +444,7 @@ def build_report(db, out, fem_dir=None, cad_dir=None, limits=None) -> dict:
     sections.append(_copy_assets(fem_dir, out, "fem", "structure_fem output",
                                  "Structure selection and deflection (structure_fem)"))
     sections.append(_copy_assets(cad_dir, out, "cad", "CAD render", "Robot and connector renders (cubot_cad)"))
+    sections.append(_models_section(cad_dir, out))
     sections.append(_errors_section(rs))
     for sec in sections:  # each figure's numbers beside it
         for b in sec.blocks:

@@ -44,6 +44,13 @@ class MarkdownText:
 
 
 @dataclass
+class Raw:
+    """A fragment of HTML (an interactive player or viewer) and what Markdown says instead."""
+    html: str
+    markdown: str = ""
+
+
+@dataclass
 class Section:
     title: str
     blocks: list = field(default_factory=list)
@@ -93,6 +100,8 @@ def _md_block(b) -> list[str]:
     if isinstance(b, Figure):
         data = f" ([data]({b.data}))" if b.data else ""
         return [f"![{b.caption}]({b.src})", "", f"*{b.caption}*{data}", ""]
+    if isinstance(b, Raw):
+        return [b.markdown, ""] if b.markdown else []
     if isinstance(b, MarkdownText):
         text = re.sub(r"^(#+)", lambda m: "#" * min(6, len(m.group(1)) + 2), b.text, flags=re.M)
         return ([f"*From `{b.source}`:*", ""] if b.source else []) + [text.strip(), ""]
@@ -206,6 +215,8 @@ def _html_block(b) -> str:
         data = f' (<a href="{html.escape(b.data)}">data, CSV</a>)' if b.data else ""
         return (f'<figure><img src="{html.escape(b.src)}" alt="{html.escape(b.caption)}" loading="lazy">'
                 f"<figcaption>{_inline(b.caption)}{data}</figcaption></figure>")
+    if isinstance(b, Raw):
+        return b.html
     if isinstance(b, MarkdownText):
         src = f"<p><i>From <code>{html.escape(b.source)}</code>:</i></p>" if b.source else ""
         return src + markdown_to_html(b.text)
