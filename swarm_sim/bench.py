@@ -1,8 +1,14 @@
-"""Exploration-only benchmark: robot-steps per second and how cost scales with N.
+"""Benchmarks of the simulator, reported as rates and ratios measured in one run.
 
-Random walk with wall and robot avoidance in a square walled arena (no void) sized
-so the robots' bodies cover ``coverage`` (5 %) of the floor, so density is the same
-for every N. Each measurement runs the real :func:`swarm_sim.step.step`.
+* :func:`bench` (``sim bench``): exploration only, robot-steps per second and how cost scales
+  with N. Random walk with wall and robot avoidance in a square walled arena (no void) sized
+  so the robots' bodies cover ``coverage`` (5 %) of the floor, so density is the same for
+  every N. Each measurement runs the real :func:`swarm_sim.step.step`.
+* :func:`workload_bench` (``sim bench --workload thesis``): what users run, the thesis's
+  bridge runs of 5-15 robots to their end (crossings and a retreat, :data:`THESIS_WORKLOAD`),
+  as CPU seconds per run, steps per second and robot-steps per second, with the exploration
+  rate of 10,000 robots measured in the same call as the reference: the ratio says how far
+  the real workload is from the engine's best case (per-step interpreter overhead).
 """
 
 from __future__ import annotations
@@ -105,4 +111,56 @@ def bench(robots: int = 10_000, steps: int = 500, scaling: tuple[int, ...] = (1_
         "peak_rss_bytes": peak_rss_bytes(),
         "note": "exploration only (random walk, wall and robot avoidance), one process, CPU time; "
                 "peak_rss_bytes is the whole process after the 100,000-robot point",
+    }
+
+
+#: the real workload: (preset, robots, void widths, limits), each run to its end
+THESIS_WORKLOAD = (
+    ("case-a", 8, 2, "thesis"), ("case-b", 15, 5, "thesis"), ("case-c", 9, 3, "thesis"),
+    ("case-d", 9, 3, "thesis"), ("case-d", 8, 3, "thesis"), ("case-d", 9, 3, "derived"),
+)
+
+
+def workload_bench(seeds: int = 3, use_numba: bool | None = None, progress=lambda it, total: it) -> dict:
+    """CPU cost of the thesis's bridge runs (:data:`THESIS_WORKLOAD`, ``seeds`` seeds each) and
+    its ratio to the exploration rate measured in the same call (module docstring)."""
+    from .runner import resolve_params, simulate
+
+    if isinstance(seeds, bool) or not isinstance(seeds, int) or not 1 <= seeds <= 1000:
+        raise InputError(f"--seeds must be an integer in 1..1000, got {seeds!r}")
+    ref_robots, ref_steps = 10_000, 100
+    ref_cpu = time_steps(ref_robots, ref_steps, use_numba=use_numba)
+    ref_rate = ref_robots * ref_steps / ref_cpu
+    cases = []
+    jobs = [(c, s) for c in THESIS_WORKLOAD for s in range(seeds)]
+    per: dict = {}
+    for (preset, n, w, lim), seed in progress(jobs, len(jobs)):
+        p = resolve_params(preset, n, w, lim)
+        t0 = time.process_time()
+        _, res = simulate(p, 1000 + seed, use_numba=use_numba)
+        cpu = time.process_time() - t0
+        d = per.setdefault((preset, n, w, lim), {"runs": 0, "cpu_s": 0.0, "steps": 0, "outcomes": {}})
+        d["runs"] += 1
+        d["cpu_s"] += cpu
+        d["steps"] += res.steps
+        d["outcomes"][res.end_reason] = d["outcomes"].get(res.end_reason, 0) + 1
+    tot_cpu = tot_steps = tot_rs = 0.0
+    for (preset, n, w, lim), d in per.items():
+        rs = n * d["steps"]
+        tot_cpu += d["cpu_s"]
+        tot_steps += d["steps"]
+        tot_rs += rs
+        cases.append({"preset": preset, "robots": n, "void_width": w, "limits": lim, "runs": d["runs"],
+                      "cpu_s_per_run": round(d["cpu_s"] / d["runs"], 4), "steps_per_run": d["steps"] // d["runs"],
+                      "us_per_step": round(1e6 * d["cpu_s"] / d["steps"], 2),
+                      "robot_steps_per_s": round(rs / d["cpu_s"], 1), "outcomes": d["outcomes"]})
+    rate = tot_rs / tot_cpu
+    return {
+        "workload": "thesis", "seeds": seeds, "runs": len(jobs), "cpu_s": round(tot_cpu, 3),
+        "cpu_s_per_run": round(tot_cpu / len(jobs), 4), "us_per_step": round(1e6 * tot_cpu / tot_steps, 2),
+        "robot_steps_per_s": round(rate, 1), "reference_exploration_robot_steps_per_s": round(ref_rate, 1),
+        "ratio_to_exploration": round(rate / ref_rate, 5), "numba": HAVE_NUMBA if use_numba is None else use_numba,
+        "load_average_1min": round(_load(), 2), "cases": cases,
+        "note": "CPU time of this process; the reference is 10,000 exploring robots x 100 steps in the same "
+                "call; a ratio far below 1 is per-step interpreter overhead, the target of a compiled engine",
     }

@@ -20,3 +20,24 @@ def test_exploration_step(benchmark, robots):
 
     benchmark(one)
     benchmark.extra_info["robot_steps_per_s"] = robots / benchmark.stats.stats.mean
+
+
+@pytest.mark.bench
+def test_thesis_workload_rate_as_a_ratio_to_the_exploration_rate(benchmark):
+    """Issue 14: the real workload (bridge runs of 8-15 robots to their end) against the
+    exploration rate measured in the same call; the ratio is reported, not asserted."""
+    from swarm_sim.bench import THESIS_WORKLOAD, workload_bench
+
+    rep = benchmark.pedantic(workload_bench, kwargs={"seeds": 2}, rounds=1, iterations=1)
+    benchmark.extra_info.update({k: rep[k] for k in ("us_per_step", "robot_steps_per_s", "ratio_to_exploration",
+                                                     "cpu_s_per_run")})
+    print(rep)
+    assert rep["runs"] == 2 * len(THESIS_WORKLOAD) and 0 < rep["ratio_to_exploration"]
+
+
+def test_thesis_workload_refuses_a_bad_seed_count():
+    from swarm_sim.bench import workload_bench
+    from swarm_sim.errors import InputError
+
+    with pytest.raises(InputError, match="--seeds"):
+        workload_bench(0)

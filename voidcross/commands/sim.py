@@ -44,9 +44,13 @@ reported with the draw that caused it. Exit 1 if any was found.
 BENCH_EPILOG = """examples:
   voidcross sim bench --robots 10000 --steps 500 --json
   voidcross sim bench --robots 1000 --steps 200 --no-scaling
-Exploration only (random walk, wall and robot avoidance), arena sized so the robots cover 5 %
+  voidcross sim bench --workload thesis --seeds 3 --json
+Default workload: exploration only (random walk, wall and robot avoidance), arena sized so the robots cover 5 %
 of the floor. robot_steps_per_s is measured in CPU time of this process (the machine may be
 shared); scaling_exponent fits cost per step against N over 1,000..100,000 robots.
+--workload thesis: the thesis's bridge runs (cases A-D at their boundaries, a retreat, both
+limit sets) to their end; CPU s per run, us per step and the ratio of its robot-steps/s to the
+exploration rate measured in the same call.
 """
 
 
@@ -177,6 +181,20 @@ def soak(args: argparse.Namespace) -> int:
 def bench(args: argparse.Namespace) -> int:
     from swarm_sim.bench import bench as do_bench
 
+    if args.workload == "thesis":
+        from swarm_sim.bench import workload_bench
+
+        rep = workload_bench(args.seeds, use_numba=False if args.no_numba else None,
+                             progress=lambda it, n: progress(it, "thesis workload", n))
+        lines = [f"thesis workload: {rep['runs']} whole runs, {rep['cpu_s_per_run']:.2f} CPU s per run, "
+                 f"{rep['us_per_step']:.0f} us per step, {rep['robot_steps_per_s']:.3g} robot-steps/s = "
+                 f"{rep['ratio_to_exploration']:.4f} x the exploration rate measured now "
+                 f"({rep['reference_exploration_robot_steps_per_s']:.3g}), numba={rep['numba']}"]
+        lines += [f"  {c['preset']} N={c['robots']} w={c['void_width']} {c['limits']}: {c['cpu_s_per_run']:.2f} s/run, "
+                  f"{c['steps_per_run']} steps, {c['us_per_step']:.0f} us/step, {c['outcomes']}" for c in rep["cases"]]
+        emit(args, rep, "\n".join(lines))
+        return 0
+
     scaling = () if args.no_scaling else (1_000, 3_000, 10_000, 30_000, 100_000)
     rep = do_bench(args.robots, args.steps, scaling=scaling, use_numba=False if args.no_numba else None,
                    progress=lambda it, n: progress(it, "scaling", n))
@@ -248,4 +266,8 @@ def register(sub, common) -> None:
     b.add_argument("--steps", type=int, default=500)
     b.add_argument("--no-scaling", action="store_true", help="skip the 1e3..1e5 scaling sweep")
     b.add_argument("--no-numba", action="store_true", help="force the numpy back-end")
+    b.add_argument("--workload", choices=("exploration", "thesis"), default="exploration",
+                   help="exploration (default): N exploring robots; thesis: the thesis's bridge runs to their "
+                        "end, as a ratio to the exploration rate measured in the same call")
+    b.add_argument("--seeds", type=int, default=3, help="--workload thesis: seeds per case (default 3)")
     b.set_defaults(func=bench)
