@@ -102,12 +102,14 @@ def lost_robots(state: SwarmState, world: World) -> np.ndarray:
     """Robots that would fall: body over the void while not in the structure (cheap check)."""
     x = state.x_cm
     r = world.body_radius_cm  # no body reaches farther than this from its centre
-    if not ((x > world.x0_cm - r) & (x < world.x1_cm + r)).any():
-        return np.zeros(0, dtype=np.int64)
-    over = world.over_void(x, state.heading_rad)
-    if state.structure is not None and state.structure.members:
-        over[S.occupied(state.structure)[0]] = False
-    if state.structure is not None and state.structure.shell:
-        sh = np.asarray(state.structure.shell, dtype=np.int64)
-        over[sh[sh != OPEN]] = False
-    return np.flatnonzero(over)
+    near = np.flatnonzero((x > world.x0_cm - r) & (x < world.x1_cm + r))
+    if not near.size:
+        return near
+    near = near[world.over_void(x[near], state.heading_rad[near])]
+    st = state.structure
+    if near.size and st is not None and (st.members or st.shell):
+        # structure members (open slots are OPEN = -1, never a robot id) and the feet are carried
+        carried = set(st.members)
+        carried.update(st.shell)
+        near = np.array([i for i in near.tolist() if i not in carried], dtype=np.int64)
+    return near

@@ -47,7 +47,7 @@ class World:
         stand (the thesis's assumption 13: the moving structure ignores obstacles)."""
         return replace(self, obstacles=np.zeros((0, 3)))
 
-    @property
+    @cached_property
     def body_radius_cm(self) -> float:
         """Circumscribed radius of the body (half diagonal of the square)."""
         if self.shape == "octagon":
