@@ -183,30 +183,37 @@ def can_recruit(s) -> bool:
 
 def first_match(table: tuple, s) -> str:
     """The action of the first row of a decision table whose guard holds for situation ``s``."""
-    for action, guard in table:
+    for action, guard, *_ in table:
         if guard(s):
             return action
     raise AssertionError("decision table has no default row")  # pragma: no cover
 
 
-#: Building (not retreating): (action, guard) rows, first match wins.
+#: Building (not retreating): (action, guard, guard in words) rows, first match wins. The docs'
+#: table is generated from these rows (:mod:`swarm_sim.decision_docs`).
 BUILD_TABLE = (
-    ("release_front", lambda s: s.front_on_target and s.stable_without_front),
+    ("release_front", lambda s: s.front_on_target and s.stable_without_front,
+     "the front robot stands fully on the target ground and the rest stays stable without it"),
     # Ch. 5.5.2: the far ledge is not found within this level's span: widen to the next level
-    ("switch", lambda s: s.span_blocked and s.can_switch and not s.filling),
-    ("recruit", lambda s: s.filling and can_recruit(s)),   # fill the new lines/layers
-    ("retreat", lambda s: s.filling),                       # ... with no free robot left
-    ("retreat", lambda s: s.span_blocked),
-    ("recruit", lambda s: can_recruit(s) and (s.counts.n_p <= s.counts.n_g if s.landed else not s.can_advance)),
-    ("advance", lambda s: s.can_advance),
-    ("recruit", lambda s: can_recruit(s)),
-    ("retreat", lambda s: True),
+    ("switch", lambda s: s.span_blocked and s.can_switch and not s.filling,
+     "the next advance would exceed this level's span, a wider level follows, no switch under way"),
+    ("recruit", lambda s: s.filling and can_recruit(s),
+     "a switch is filling its new lines/layers and a robot can be called"),
+    ("retreat", lambda s: s.filling, "a switch is filling and no robot can be called"),
+    ("retreat", lambda s: s.span_blocked, "the next advance would exceed the widest level's span"),
+    ("recruit", lambda s: can_recruit(s) and (s.counts.n_p <= s.counts.n_g if s.landed else not s.can_advance),
+     "a robot can be called and (landed: n_p <= n_g; not landed: the structure cannot advance)"),
+    ("advance", lambda s: s.can_advance,
+     "enough robots to launch, no partial row, and the advance keeps the counting rule"),
+    ("recruit", lambda s: can_recruit(s), "a robot can be called"),
+    ("retreat", lambda s: True, "otherwise: no robot can be called and the structure cannot advance"),
 )
 
 #: Retreating: release at the rear while the rest stays stable, else back off one length.
 RETREAT_TABLE = (
-    ("release_rear", lambda s: s.rear_on_initial and s.stable_without_rear),
-    ("back", lambda s: True),
+    ("release_rear", lambda s: s.rear_on_initial and s.stable_without_rear,
+     "the rear robot stands on the initial ground and the rest stays stable without it"),
+    ("back", lambda s: True, "otherwise: move back one robot length"),
 )
 
 

@@ -305,40 +305,52 @@ class TaperSituation:
     supply: bool = True       # a free robot or a near-foot robot can still join the core
 
 
-#: Building a tapered level: (action, guard), first match wins.
+#: Building a tapered level: (action, guard, guard in words), first match wins.
 TAPER_TABLE = (
-    ("hold", lambda s: s.job_busy and not s.landed),          # a near-foot round is under way
+    ("hold", lambda s: s.job_busy and not s.landed, "not landed and a near-foot round is under way"),
     # no robot left to recruit: the core first walks onto the target ground, then releases
-    ("advance", lambda s: s.landed and not s.supply and s.can_advance),
-    ("release_front", lambda s: s.front_ready and s.stable_without_front and not s.job_busy),
-    ("switch", lambda s: s.span_blocked and s.can_switch and not s.filling and not s.job_busy),
-    ("recruit", lambda s: s.filling and S.can_recruit(s)),      # single line -> two-line core
-    ("retreat", lambda s: s.filling),
+    ("advance", lambda s: s.landed and not s.supply and s.can_advance,
+     "landed, no robot left to join the core, and the core can advance"),
+    ("release_front", lambda s: s.front_ready and s.stable_without_front and not s.job_busy,
+     "the front row is ready on the target ground, the rest stays stable, no foot round under way"),
+    ("switch", lambda s: s.span_blocked and s.can_switch and not s.filling and not s.job_busy,
+     "the next advance would exceed this level's span and a wider level follows (nothing under way)"),
+    ("recruit", lambda s: s.filling and S.can_recruit(s), "the single line is being widened to two and a robot can be called"),
+    ("retreat", lambda s: s.filling, "the line is being widened and no robot can be called"),
     # the core extends until k B rows stand on the initial ground (thesis: 15 rows for k = 3)
-    ("recruit", lambda s: not s.landed and s.ground_rows < s.foot_rows and S.can_recruit(s)),
-    ("retreat", lambda s: not s.landed and s.ground_rows < s.foot_rows),
-    ("fill_near", lambda s: not s.landed and s.near_open and s.free_available and s.fill_ok),
-    ("recruit", lambda s: not s.landed and s.near_open and S.can_recruit(s)),  # more counterweight
-    ("retreat", lambda s: not s.landed and s.near_open),
-    ("retreat", lambda s: s.span_blocked),
-    ("recruit", lambda s: s.landed and s.ground_rows <= s.foot_rows and S.can_recruit(s)),
+    ("recruit", lambda s: not s.landed and s.ground_rows < s.foot_rows and S.can_recruit(s),
+     "not landed, fewer than k B core rows on the initial ground, a robot can be called"),
+    ("retreat", lambda s: not s.landed and s.ground_rows < s.foot_rows,
+     "not landed, fewer than k B core rows on the initial ground, no robot can be called"),
+    ("fill_near", lambda s: not s.landed and s.near_open and s.free_available and s.fill_ok,
+     "not landed, the near foot has open slots, a free robot exists and the fill keeps the rule"),
+    ("recruit", lambda s: not s.landed and s.near_open and S.can_recruit(s),
+     "not landed, the near foot has open slots: more counterweight is called"),
+    ("retreat", lambda s: not s.landed and s.near_open, "not landed, the near foot is open and nobody can come"),
+    ("retreat", lambda s: s.span_blocked, "the next advance would exceed the widest level's span"),
+    ("recruit", lambda s: s.landed and s.ground_rows <= s.foot_rows and S.can_recruit(s),
+     "landed, at most k B core rows on the initial ground, a robot can be called"),
     # no free robot left: the near foot breaks away into the core's rear (reverse fill order)
     ("unfill_near", lambda s: s.landed and s.near_any and not s.free_available and not s.job_busy
-        and s.unfill_ok and s.ground_rows <= s.foot_rows),
-    ("advance", lambda s: s.can_advance),
-    ("recruit", lambda s: S.can_recruit(s)),
-    ("dissolve_far", lambda s: s.rows == 0 and not s.near_any and s.far_any and not s.job_busy),
-    ("hold", lambda s: s.landed or s.job_busy),
-    ("retreat", lambda s: True),
+        and s.unfill_ok and s.ground_rows <= s.foot_rows,
+     "landed, no free robot left: the near foot joins the core's rear in reverse fill order"),
+    ("advance", lambda s: s.can_advance, "the core can advance"),
+    ("recruit", lambda s: S.can_recruit(s), "a robot can be called"),
+    ("dissolve_far", lambda s: s.rows == 0 and not s.near_any and s.far_any and not s.job_busy,
+     "the core is gone and only the far foot remains: it dissolves onto the target ground"),
+    ("hold", lambda s: s.landed or s.job_busy, "landed or a foot round under way: wait"),
+    ("retreat", lambda s: True, "otherwise"),
 )
 
 #: Retreating a tapered level: the near foot dissolves first (reverse fill order, robots go
 #: back to the initial side), then the core releases at the rear / backs off as the line does.
 TAPER_RETREAT_TABLE = (
-    ("hold", lambda s: s.job_busy),
-    ("unfill_near", lambda s: s.near_any and (s.unfill_ok or s.counts.core_rows_over == 0)),
-    ("release_rear", lambda s: not s.near_any and s.rear_on_initial and s.stable_without_rear),
-    ("back", lambda s: True),
+    ("hold", lambda s: s.job_busy, "a foot round is under way"),
+    ("unfill_near", lambda s: s.near_any and (s.unfill_ok or s.counts.core_rows_over == 0),
+     "the near foot still has robots and removing one keeps the rule (or no core row is over the void)"),
+    ("release_rear", lambda s: not s.near_any and s.rear_on_initial and s.stable_without_rear,
+     "no near foot, the rear row is on the initial ground and the rest stays stable"),
+    ("back", lambda s: True, "otherwise: move back one robot length"),
 )
 
 

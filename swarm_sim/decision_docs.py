@@ -1,0 +1,62 @@
+"""The decision tables of the docs, generated from the code's tables (one home per rule).
+
+``python -m swarm_sim.decision_docs docs/swarm_sim.md`` rewrites every block between
+``<!-- BEGIN decision-table NAME -->`` and ``<!-- END decision-table NAME -->`` with the
+rows of the table ``NAME`` (:data:`TABLES`); ``--check`` only reports whether the file is up
+to date (exit 1 if not). The tests run the check, so a table changed in the code without its
+docs fails.
+"""
+
+from __future__ import annotations
+
+import re
+import sys
+from pathlib import Path
+
+from . import structure as S
+from . import taper as T
+
+TABLES = {
+    "BUILD_TABLE": S.BUILD_TABLE, "RETREAT_TABLE": S.RETREAT_TABLE,
+    "TAPER_TABLE": T.TAPER_TABLE, "TAPER_RETREAT_TABLE": T.TAPER_RETREAT_TABLE,
+}
+_BLOCK = re.compile(r"(<!-- BEGIN decision-table (\w+) -->\n)(.*?)(<!-- END decision-table \2 -->)", re.S)
+
+
+def markdown(name: str) -> str:
+    """The table ``name`` as a Markdown table: row number, action, guard in words."""
+    rows = ["| # | action | when (first match wins) |", "|---|---|---|"]
+    rows += [f"| {k} | `{action}` | {words} |" for k, (action, _, words) in enumerate(TABLES[name], 1)]
+    return "\n".join(rows) + "\n"
+
+
+def render(text: str) -> str:
+    """``text`` with every decision-table block regenerated."""
+    def sub(m):
+        if m.group(2) not in TABLES:
+            raise KeyError(f"unknown decision table {m.group(2)!r} in the docs (known: {', '.join(TABLES)})")
+        return m.group(1) + markdown(m.group(2)) + m.group(4)
+
+    return _BLOCK.sub(sub, text)
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = list(sys.argv[1:] if argv is None else argv)
+    check = "--check" in args
+    paths = [a for a in args if a != "--check"] or ["docs/swarm_sim.md"]
+    stale = []
+    for p in map(Path, paths):
+        old = p.read_text()
+        new = render(old)
+        if new != old:
+            stale.append(str(p))
+            if not check:
+                p.write_text(new)
+    if check and stale:
+        print("out of date (run python -m swarm_sim.decision_docs): " + ", ".join(stale))
+        return 1
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
