@@ -24,9 +24,24 @@ import math
 from dataclasses import dataclass
 from typing import ClassVar
 
-from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Mate, Part, check_clearance, need
+from .part import (
+    DEFAULT_CLEARANCE_MM,
+    MIN_WALL_MM,
+    NOZZLE_MM,
+    Mate,
+    Part,
+    at_least,
+    at_most,
+    check_clearance,
+    need,
+)
 
 PIN_ANGLES_DEG = (90.0, 210.0, 330.0)
+#: In the nominal model the locked blade's slot edge must overlap the pin's shoulder
+#: (pin radius - slot half-width = (pin - groove) / 2 - clearance) by at least half an
+#: extrusion width; as printed the overlap is larger (the over-extrusion the clearance
+#: compensates narrows the slot and fattens the pin).
+MIN_LATCH_OVERLAP_MM = NOZZLE_MM / 2
 
 
 def _pos_ok(name: str, value: float) -> None:
@@ -42,8 +57,13 @@ class FrontRearSpec:
     plate_mm: float = 3.0
     pin_diameter_mm: float = 5.0
     groove_diameter_mm: float = 3.4
-    head_diameter_mm: float = 7.5
+    #: Radial overlap of the pin head over its hole (pin + 2 clearances): the shoulder that takes
+    #: the pull. Constant, so the head grows with the clearance (7.5 mm at the default 0.2 mm).
+    head_shoulder_mm: float = 1.05
     head_mm: float = 1.8
+    #: Pin-locking plate (b) left in front of the head's counterbore (head + clearance deep):
+    #: constant, so plate (b) thickens with the clearance (``plate_mm`` at the default 0.2 mm).
+    head_wall_mm: float = 1.0
     blade_mm: float = 2.4
     pocket_depth_mm: float = 3.0
     pin_circle_mm: float = 7.0
@@ -56,25 +76,26 @@ class FrontRearSpec:
 
     def __post_init__(self) -> None:
         check_clearance(self.clearance_mm, "clearance_mm")
-        for n in ("wall_mm", "plate_mm", "pin_diameter_mm", "groove_diameter_mm", "head_diameter_mm",
-                  "head_mm", "blade_mm", "pocket_depth_mm", "pin_circle_mm", "block_mm", "blade_radius_mm"):
+        for n in ("wall_mm", "plate_mm", "pin_diameter_mm", "groove_diameter_mm", "head_shoulder_mm",
+                  "head_mm", "head_wall_mm", "blade_mm", "pocket_depth_mm", "pin_circle_mm", "block_mm",
+                  "blade_radius_mm"):
             _pos_ok(n, getattr(self, n))
         c = self.clearance_mm
-        for n in ("wall_mm", "plate_mm", "blade_mm"):
-            need(getattr(self, n) >= MIN_WALL_MM,
+        for n in ("wall_mm", "plate_mm", "blade_mm", "head_shoulder_mm", "head_mm", "head_wall_mm"):
+            need(at_least(getattr(self, n), MIN_WALL_MM),
                  f"{n} = {getattr(self, n):g} mm is thinner than two nozzle widths ({MIN_WALL_MM:g} mm)")
-        need(self.groove_diameter_mm <= self.pin_diameter_mm - 2 * MIN_WALL_MM / 2,
+        need(at_most(self.groove_diameter_mm, self.pin_diameter_mm - MIN_WALL_MM),
              f"groove_diameter_mm {self.groove_diameter_mm:g} must be at least {MIN_WALL_MM:g} mm smaller "
              f"than pin_diameter_mm {self.pin_diameter_mm:g}")
-        need(self.groove_diameter_mm >= 2.0, f"groove_diameter_mm {self.groove_diameter_mm:g} < 2 mm would snap")
-        need(self.head_diameter_mm >= self.pin_diameter_mm + 2 * c + 2 * MIN_WALL_MM,
-             f"head_diameter_mm {self.head_diameter_mm:g} does not overlap the pin hole "
-             f"({self.pin_diameter_mm + 2 * c:g} mm) by a printable shoulder")
-        need(self.plate_mm - self.head_mm - c >= MIN_WALL_MM,
-             f"head_mm {self.head_mm:g} leaves less than {MIN_WALL_MM:g} mm of the {self.plate_mm:g} mm pin-locking plate")
+        need(at_least(self.groove_diameter_mm, 2.0), f"groove_diameter_mm {self.groove_diameter_mm:g} < 2 mm would snap")
+        need(at_least(self.latch_overlap_mm, MIN_LATCH_OVERLAP_MM),
+             f"clearance_mm {c:g} leaves the latch blade's slot ({self.slot_width_mm:g} mm) overlapping the "
+             f"{self.pin_diameter_mm:g} mm pin by {self.latch_overlap_mm:.2f} mm (< {MIN_LATCH_OVERLAP_MM:g} mm): "
+             "the blade would not hold the pin (groove_diameter_mm, pin_diameter_mm)")
         spacing = self.pin_circle_mm * math.sqrt(3)
-        need(spacing >= self.head_diameter_mm + 2 * c + MIN_WALL_MM,
-             f"pin_circle_mm {self.pin_circle_mm:g} puts the pin heads closer than a printable wall")
+        need(at_least(spacing, self.head_diameter_mm + 2 * c + MIN_WALL_MM),
+             f"pin_circle_mm {self.pin_circle_mm:g} puts the {self.head_diameter_mm:g} mm pin heads' counterbores "
+             f"closer than a printable wall (clearance_mm {c:g})")
         need(5.0 <= self.blade_turn_deg <= 45.0, f"blade_turn_deg {self.blade_turn_deg:g} must be in 5..45")
         # The arc slots and entry holes must leave a printable wall to the triangle's edges
         # (perpendicular distance from a point at radius rho, angle a off a vertex: R/2 - rho cos(60 - a)).
@@ -82,23 +103,43 @@ class FrontRearSpec:
         th = math.radians(self.blade_turn_deg)
         wall_slot = inr - self.pin_circle_mm * math.cos(math.radians(60) - th) - self.slot_width_mm / 2
         wall_entry = inr - self.pin_circle_mm * math.cos(math.radians(60)) - self.pin_diameter_mm / 2 - c
-        need(min(wall_slot, wall_entry) >= MIN_WALL_MM,
+        need(at_least(min(wall_slot, wall_entry), MIN_WALL_MM),
              f"blade_radius_mm {self.blade_radius_mm:g} is too small for pin_circle_mm {self.pin_circle_mm:g} "
              f"and blade_turn_deg {self.blade_turn_deg:g}: the slots leave a {min(wall_slot, wall_entry):.2f} mm "
              f"wall to the blade's edge (< {MIN_WALL_MM:g} mm)")
-        need(self.blade_radius_mm >= self.pin_circle_mm + self.pin_diameter_mm / 2 + c + MIN_WALL_MM,
+        need(at_least(self.blade_radius_mm, self.pin_circle_mm + self.pin_diameter_mm / 2 + c + MIN_WALL_MM),
              f"blade_radius_mm {self.blade_radius_mm:g} does not cover the pin holes")
-        need(self.block_mm / 2 >= self.blade_radius_mm + c + MIN_WALL_MM,
+        need(at_least(self.block_mm / 2, self.blade_radius_mm + c + MIN_WALL_MM),
              f"block_mm {self.block_mm:g} is too small for the blade cavity (blade_radius_mm {self.blade_radius_mm:g})")
-        need(self.block_mm / 2 >= self.pin_circle_mm + self.head_diameter_mm / 2 + c + MIN_WALL_MM,
+        need(at_least(self.block_mm / 2, self.pin_circle_mm + self.head_diameter_mm / 2 + c + MIN_WALL_MM),
              f"block_mm {self.block_mm:g} is too small for pin_circle_mm {self.pin_circle_mm:g}")
         if self.pin_protrusion_mm is not None:
             _pos_ok("pin_protrusion_mm", self.pin_protrusion_mm)
-            need(self.pin_protrusion_mm >= self.blade_end_mm + 1.0,
+            need(at_least(self.pin_protrusion_mm, self.blade_end_mm + 1.0),
                  f"pin_protrusion_mm {self.pin_protrusion_mm:g} does not reach past the latch blade "
                  f"(needs >= {self.blade_end_mm + 1.0:g} mm)")
 
     # -- derived ------------------------------------------------------------
+    @property
+    def head_diameter_mm(self) -> float:
+        """Pin head diameter: the pin hole (pin + 2 clearances) plus the shoulder on each side."""
+        return self.pin_diameter_mm + 2 * (self.clearance_mm + self.head_shoulder_mm)
+
+    @property
+    def locking_plate_mm(self) -> float:
+        """Pin-locking plate (b) thickness: head, its axial clearance and the wall in front of it."""
+        return self.head_mm + self.clearance_mm + self.head_wall_mm
+
+    @property
+    def head_x_mm(self) -> float:
+        """Set-frame x of the pin head's back face = the back face of plate (b) (front of plate (a))."""
+        return -self.wall_mm - 2 * self.plate_mm - self.locking_plate_mm
+
+    @property
+    def latch_overlap_mm(self) -> float:
+        """How far the locked blade's slot edge overlaps the pin's shoulder (nominal model)."""
+        return (self.pin_diameter_mm - self.slot_width_mm) / 2
+
     @property
     def separation_mm(self) -> float:
         """Separation plate (and pin groove) width: blade plus a clearance each side."""
@@ -226,10 +267,10 @@ class PinLockingPlate(_Plate):
         from .shapes import X, cyl
 
         s = self.spec
-        x0 = -s.wall_mm - 3 * s.plate_mm
+        x0 = s.head_x_mm
         cb = [cyl(s.head_diameter_mm / 2 + s.clearance_mm, s.head_mm + s.clearance_mm + 0.1, (x0 - 0.1, y, z), X)
               for y, z in s.pin_positions()]
-        return self._plate(s, x0, x0 + s.plate_mm, extra=cb)
+        return self._plate(s, x0, x0 + s.locking_plate_mm, extra=cb)
 
 
 @dataclass(frozen=True)
@@ -243,7 +284,7 @@ class PinRearPlate(_Plate):
 
     def build(self):
         s = self.spec
-        x0 = -s.wall_mm - 4 * s.plate_mm
+        x0 = s.head_x_mm - s.plate_mm
         return self._plate(s, x0, x0 + s.plate_mm, pin_holes=False)
 
 
@@ -267,7 +308,7 @@ class GroovedPin(Part):
         from .shapes import X, cyl, fuse_all
 
         s = self.spec
-        x_head = -s.wall_mm - 3 * s.plate_mm
+        x_head = s.head_x_mm
         r, rg = s.pin_diameter_mm / 2, s.groove_diameter_mm / 2
         g0, g1 = self.groove_mm
         tip = s.protrusion_mm
@@ -420,7 +461,12 @@ def latch_set_parts(spec: FrontRearSpec, locked: bool = False) -> list[tuple[Par
 @dataclass(frozen=True)
 class RailSpec:
     """Dovetail rail pair (mm). Rail frame: robot side face at y = 0, +y outward,
-    rail centred on x = 0 and on z = 0 (the robot places it at its rail height)."""
+    rail centred on x = 0 and on z = 0 (the robot places it at its rail height).
+
+    The female groove is the tongue's cross-section offset outward by
+    ``clearance_mm`` normal to every face: flanks parallel to the tongue's flanks
+    (a uniform gap from mouth to tip), floor ``clearance_mm`` beyond the tip.
+    """
 
     length_mm: float = 80.0
     height_mm: float = 24.0
@@ -437,12 +483,17 @@ class RailSpec:
         for n in ("length_mm", "height_mm", "plate_mm", "tongue_mm", "tongue_root_mm", "tongue_tip_mm",
                   "ir_hole_mm", "ir_inset_mm"):
             _pos_ok(n, getattr(self, n))
-        need(self.plate_mm >= MIN_WALL_MM, f"plate_mm {self.plate_mm:g} is thinner than {MIN_WALL_MM:g} mm")
+        need(at_least(self.plate_mm - self.clearance_mm, MIN_WALL_MM),
+             f"plate_mm {self.plate_mm:g} leaves the groove floor thinner than {MIN_WALL_MM:g} mm "
+             f"(clearance_mm {self.clearance_mm:g})")
         need(self.tongue_tip_mm > self.tongue_root_mm,
              f"tongue_tip_mm {self.tongue_tip_mm:g} must exceed tongue_root_mm {self.tongue_root_mm:g} (a dovetail)")
-        need(self.tongue_root_mm >= 2 * MIN_WALL_MM, f"tongue_root_mm {self.tongue_root_mm:g} is too thin to print")
-        need(self.height_mm / 2 >= self.tongue_tip_mm / 2 + self.clearance_mm * 2 + self.ir_hole_mm + MIN_WALL_MM * 2,
-             f"height_mm {self.height_mm:g} leaves no room for the IR holes beside the dovetail")
+        need(at_least(self.tongue_root_mm, 2 * MIN_WALL_MM),
+             f"tongue_root_mm {self.tongue_root_mm:g} is too thin to print")
+        band = self.height_mm / 2 - self.groove_half_width_mm(self.groove_depth_mm)
+        need(at_least(band, self.ir_hole_mm + 2 * MIN_WALL_MM),
+             f"height_mm {self.height_mm:g} leaves {band:.2f} mm beside the dovetail groove for the "
+             f"{self.ir_hole_mm:g} mm IR holes and their walls (clearance_mm {self.clearance_mm:g})")
 
     @property
     def female_mm(self) -> float:
@@ -450,16 +501,34 @@ class RailSpec:
         return self.plate_mm + self.tongue_mm
 
     @property
+    def flank_slope(self) -> float:
+        """Widening of the tongue's half-width per mm of depth (tan of the flank angle, 26.6 deg)."""
+        return (self.tongue_tip_mm - self.tongue_root_mm) / 2 / self.tongue_mm
+
+    @property
     def flank_offset_mm(self) -> float:
         """Horizontal offset of a slanted flank that gives a normal clearance of ``clearance_mm``."""
-        slope = (self.tongue_tip_mm - self.tongue_root_mm) / 2 / self.tongue_mm
-        return self.clearance_mm * math.sqrt(1 + slope * slope)
+        return self.clearance_mm * math.sqrt(1 + self.flank_slope ** 2)
+
+    @property
+    def groove_depth_mm(self) -> float:
+        """Groove depth behind the female's mouth face: the tongue plus a clearance beyond its tip."""
+        return self.tongue_mm + self.clearance_mm
+
+    def groove_half_width_mm(self, depth_mm: float) -> float:
+        """Half-width of the groove ``depth_mm`` behind its mouth: the tongue's half-width at that
+        depth plus the flank offset (the flank is parallel to the tongue's)."""
+        return self.tongue_root_mm / 2 + self.flank_offset_mm + depth_mm * self.flank_slope
 
     def ir_points(self) -> list[tuple[float, float]]:
-        """(x, z) of the two IR holes at both ends, in the bottom half."""
-        z = -self.height_mm / 2 + self.ir_hole_mm / 2 + MIN_WALL_MM + 1.0
+        """(x, z) of the two IR holes at both ends, in the bottom half: the thesis position (hole
+        edge 1.8 mm from the rail's edge) unless the groove, which widens with the clearance,
+        comes closer than two nozzle widths; then the holes move out to keep that wall."""
+        r = self.ir_hole_mm / 2
+        z = max(self.height_mm / 2 - r - MIN_WALL_MM - 1.0,
+                self.groove_half_width_mm(self.groove_depth_mm) + MIN_WALL_MM + r)
         dx = self.length_mm / 2 - self.ir_inset_mm
-        return [(-dx, z), (dx, z)]
+        return [(-dx, -z), (dx, -z)]
 
 
 @dataclass(frozen=True)
@@ -477,7 +546,8 @@ class RailMale(Part):
         s = self.spec
         L, H, p = s.length_mm, s.height_mm, s.plate_mm
         plate = box(-L / 2, L / 2, 0, p, -H / 2, H / 2)
-        a, b = s.tongue_root_mm / 2, s.tongue_tip_mm / 2
+        # the tongue starts 0.01 mm inside the plate (a clean fuse) on the extension of its flanks
+        a, b = s.tongue_root_mm / 2 - 0.01 * s.flank_slope, s.tongue_tip_mm / 2
         tongue = prism([(p - 0.01, -a), (p + s.tongue_mm, -b), (p + s.tongue_mm, b), (p - 0.01, a)],
                        "YZ", -L / 2, L)
         body = plate.fuse(tongue).clean()
@@ -491,12 +561,17 @@ class RailMale(Part):
 
 @dataclass(frozen=True)
 class RailFemale(Part):
-    """Right rail half: thicker plate with the dovetail groove (clearance on every face)."""
+    """Right rail half: thicker plate with the dovetail groove (clearance on every face).
+
+    Printed groove up (back face on the bed): the groove floor is then printed on
+    solid layers and the flanks overhang only by the flank angle (26.6 deg from
+    vertical); groove down, the floor would be a 12.6 x 80 mm bridge.
+    """
 
     spec: RailSpec = RailSpec()
     name: ClassVar[str] = "rail_female_right"
-    description: ClassVar[str] = "side rail, right half: dovetail groove"
-    print_rotation: ClassVar = (((1.0, 0.0, 0.0), -90.0),)
+    description: ClassVar[str] = "side rail, right half: dovetail groove, printed groove up"
+    print_rotation: ClassVar = (((1.0, 0.0, 0.0), 90.0),)
 
     def build(self):
         from .shapes import Y, box, cut_all, cyl, prism
@@ -504,11 +579,12 @@ class RailFemale(Part):
         s = self.spec
         L, H, t = s.length_mm, s.height_mm, s.female_mm
         plate = box(-L / 2, L / 2, 0, t, -H / 2, H / 2)
-        e = s.flank_offset_mm
-        a, b = s.tongue_root_mm / 2 + e, s.tongue_tip_mm / 2 + e
-        y_bottom = t - s.tongue_mm - s.clearance_mm
-        groove = prism([(t + 0.5, -a - 0.5 * (b - a) / s.tongue_mm), (y_bottom, -b), (y_bottom, b),
-                        (t + 0.5, a + 0.5 * (b - a) / s.tongue_mm)], "YZ", -L / 2 - 1, L + 2)
+        # the groove's outline: the tongue offset by the clearance, drawn from 0.5 mm outside the
+        # mouth (a clean cut through the mouth face) to the floor; y = t - depth
+        out, deep = -0.5, s.groove_depth_mm
+        w_out, w_deep = s.groove_half_width_mm(out), s.groove_half_width_mm(deep)
+        groove = prism([(t - out, -w_out), (t - deep, -w_deep), (t - deep, w_deep), (t - out, w_out)],
+                       "YZ", -L / 2 - 1, L + 2)
         holes = [cyl(s.ir_hole_mm / 2, t + 0.2, (x, -0.1, z), Y) for x, z in s.ir_points()]
         return cut_all(plate, [groove] + holes)
 
@@ -545,15 +621,15 @@ class TopTwistSpec:
                   "flange_size_mm", "collar_wall_mm", "cover_mm", "lip_mm", "stand_mm", "ground_clearance_mm"):
             _pos_ok(n, getattr(self, n))
         for n in ("head_mm", "roof_mm", "flange_mm", "collar_wall_mm", "cover_mm"):
-            need(getattr(self, n) >= MIN_WALL_MM, f"{n} {getattr(self, n):g} is thinner than {MIN_WALL_MM:g} mm")
-        need(self.key_protrusion_mm <= self.stand_mm - self.ground_clearance_mm,
+            need(at_least(getattr(self, n), MIN_WALL_MM), f"{n} {getattr(self, n):g} is thinner than {MIN_WALL_MM:g} mm")
+        need(at_most(self.key_protrusion_mm, self.stand_mm - self.ground_clearance_mm),
              f"key_protrusion_mm {self.key_protrusion_mm:g} would touch the ground: the wheels stand "
              f"{self.stand_mm:g} mm (keep {self.ground_clearance_mm:g} mm clear)")
-        need(self.key_protrusion_mm >= self.flange_mm + self.head_mm + self.roof_mm + 2 * self.clearance_mm,
+        need(at_least(self.key_protrusion_mm, self.flange_mm + self.head_mm + self.roof_mm + 2 * self.clearance_mm),
              f"key_protrusion_mm {self.key_protrusion_mm:g} is too short to pass through the collar roof")
         need(self.arm_length_mm >= 2 * self.arm_width_mm + 4,
              f"arm_length_mm {self.arm_length_mm:g} leaves no cross arms beside arm_width_mm {self.arm_width_mm:g}")
-        need(self.lock_x0_mm + 2.0 <= self.arm_length_mm / 2,
+        need(at_most(self.lock_x0_mm + 2.0, self.arm_length_mm / 2),
              f"arm_length_mm {self.arm_length_mm:g} leaves no room for the locking key")
         need(30.0 <= self.twist_deg <= 60.0, f"twist_deg {self.twist_deg:g} must be in 30..60")
 
@@ -695,11 +771,11 @@ class CasterSeat(Part):
 
     def validate(self) -> None:
         need(0.1 <= self.exposed_fraction <= 0.45, f"exposed_fraction {self.exposed_fraction:g} must be in 0.1..0.45")
-        need(self.outer_diameter_mm >= self.ball_diameter_mm + 2 * self.clearance_mm + 2 * MIN_WALL_MM,
+        need(at_least(self.outer_diameter_mm, self.ball_diameter_mm + 2 * self.clearance_mm + 2 * MIN_WALL_MM),
              f"outer_diameter_mm {self.outer_diameter_mm:g} leaves no wall around the "
              f"{self.ball_diameter_mm:g} mm ball")
         top = self.ball_centre_z_mm + self.ball_diameter_mm / 2 + self.clearance_mm
-        need(top <= -MIN_WALL_MM,
+        need(at_most(top, -MIN_WALL_MM),
              f"ball_diameter_mm {self.ball_diameter_mm:g} is too large for wheel_exposed_mm "
              f"{self.wheel_exposed_mm:g}: the socket would break through the floor")
 

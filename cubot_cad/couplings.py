@@ -32,7 +32,7 @@ def front_rear(spec, pin_heights_mm: list[float], gap_mm: float, youngs_modulus_
     """Grooved pins in engagement latches. ``pin_heights_mm``: z of every pin (robot frame)."""
     c = spec.clearance_mm
     area = math.pi * (spec.groove_diameter_mm / 2) ** 2 * 1e-6
-    head_end = -spec.wall_mm - 3 * spec.plate_mm + spec.head_mm
+    head_end = spec.head_x_mm + spec.head_mm
     groove_start = spec.design_gap_mm + spec.wall_mm + 2 * spec.plate_mm
     k_pin = youngs_modulus_pa * area / ((groove_start - head_end) * 1e-3)
     if gap_mm < CONTACT_GAP_MM:

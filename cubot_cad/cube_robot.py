@@ -21,7 +21,7 @@ from . import couplings
 from .components import Component
 from .connectors import FrontRearSpec, latch_set_parts, pin_set_parts
 from .cubot import check_dims
-from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, check_clearance, need
+from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, at_most, check_clearance, need
 from .robot import Placed, Robot
 
 ENVELOPE_MM = 120.0
@@ -144,7 +144,7 @@ class CubeRobot(Robot):
         need(self.wall_mm >= MIN_WALL_MM, f"wall_mm {self.wall_mm:g} is thinner than {MIN_WALL_MM:g} mm")
         fr = self.fr_spec
         need(self.cuboid_mm >= fr.block_mm + 6, f"cuboid_mm {self.cuboid_mm:g} is lower than a connector block")
-        need(self.block_offset_mm + fr.block_mm / 2 <= self.size_mm / 2 - fr.latch_depth_mm - fr.rear_plate_mm
+        need(at_most(self.block_offset_mm + fr.block_mm / 2, self.size_mm / 2 - fr.latch_depth_mm - fr.rear_plate_mm)
              and self.block_offset_mm >= fr.block_mm / 2,
              f"block_offset_mm {self.block_offset_mm:g}: blocks on adjacent faces would collide in the corners")
         need(self.wheel_exposed_mm < self.wheel_radius_mm,

@@ -35,7 +35,7 @@ from .connectors import (
     latch_set_parts,
     pin_set_parts,
 )
-from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, check_clearance, need
+from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, at_least, check_clearance, need
 from .robot import Placed, Robot
 
 ENVELOPE_MM = (100.0, 100.0, 85.0)
@@ -179,7 +179,7 @@ class CuBot(Robot):
              f"wheel_exposed_mm {self.wheel_exposed_mm:g} must be less than wheel_radius_mm {self.wheel_radius_mm:g}")
         need(self.wheel_base_mm / 2 + self.wheel_width_mm / 2 + 1.5 <= W_b / 2 - self.wall_mm - abs(self.y_centre_mm),
              f"wheel_base_mm {self.wheel_base_mm:g} puts the wheels into the side walls (body {W_b:g} mm wide)")
-        need(self.length_mm / 2 - fr.latch_depth_mm - fr.rear_plate_mm >= self.wheel_radius_mm + 1.5,
+        need(at_least(self.length_mm / 2 - fr.latch_depth_mm - fr.rear_plate_mm, self.wheel_radius_mm + 1.5),
              f"wheel_radius_mm {self.wheel_radius_mm:g} collides with the connector stacks (length_mm {self.length_mm:g})")
         need(self.rail_z_mm - rail.height_mm / 2 >= 0 and self.rail_z_mm + rail.height_mm / 2 <= H_b - 15,
              f"rail_z_mm {self.rail_z_mm:g} puts the {rail.height_mm:g} mm rails outside the side walls")

@@ -10,7 +10,10 @@ the pin length, latch depth, ring and housing, or wheel height give.
 
 Then the connectors are closed (blades turned, key turned and locked, fingers
 opened) and the interference volume between every printed part of A and B is
-measured: with the default clearance it must be <= 1 mm^3.
+measured. A pair is ``ok`` when that interference is <= 1 mm^3 and the measured
+gap is the pair's designed gap (:func:`design_gap_mm`) within
+:data:`GAP_TOLERANCE_MM`; :func:`require_docked` turns a failing pair into an
+:class:`~cubot_cad.errors.InputError`, which stops an export before it writes.
 
 Couplings: ``cubot-front-rear``, ``cubot-side-rail`` (B slides in on A's left;
 its lateral play is reported too), ``cubot-top-down`` (B stands on A's cover
@@ -39,6 +42,9 @@ CONTACT_MM3 = 1e-3
 INTERFERENCE_LIMIT_MM3 = 1.0
 #: Gaps below this (mm) are contact: the bisection stops at 1e-4 mm, meshes are within 0.02 mm.
 GAP_RESOLUTION_MM = 0.005
+#: A measured docked gap may differ from the designed one by this much (mm): the meshes are
+#: within 0.02 mm of the exact surfaces on each robot (STL tolerance), the bisection 1e-4 mm.
+GAP_TOLERANCE_MM = 0.05
 
 
 def to_manifold(shape, tolerance: float = 0.02):
@@ -86,7 +92,7 @@ def union(manifolds):
 
 
 def intersection_volume(a, b) -> float:
-    return float((a ^ b).volume())
+    return max(0.0, float((a ^ b).volume()))  # manifold3d can return -0.0 / -1e-12 for no overlap
 
 
 @dataclass
@@ -104,13 +110,34 @@ class DockedPair:
     offset_mm: tuple[float, float, float] = (0.0, 0.0, 0.0)
     shapes_a: list = field(default_factory=list, repr=False)
     shapes_b: list = field(default_factory=list, repr=False)
+    #: The gap the robot's geometry is designed to dock at (None: not known, not checked).
+    design_gap_mm: float | None = None
+    clearance_mm: float | None = None
+
+    @property
+    def interference_ok(self) -> bool:
+        return self.interference_mm3 <= INTERFERENCE_LIMIT_MM3
+
+    @property
+    def gap_ok(self) -> bool:
+        return self.design_gap_mm is None or abs(self.gap_mm - self.design_gap_mm) <= GAP_TOLERANCE_MM
 
     @property
     def ok(self) -> bool:
-        return self.interference_mm3 <= INTERFERENCE_LIMIT_MM3
+        return self.interference_ok and self.gap_ok
+
+    def problems(self) -> list[str]:
+        """What is wrong with the pair, one phrase each (empty when ``ok``)."""
+        out = []
+        if not self.gap_ok:
+            out.append(f"gap {self.gap_mm:.2f} mm, designed {self.design_gap_mm:.2f} +- {GAP_TOLERANCE_MM:g} mm")
+        if not self.interference_ok:
+            out.append(f"interference {self.interference_mm3:.1f} mm^3 > {INTERFERENCE_LIMIT_MM3:g} mm^3")
+        return out
 
     def summary(self) -> dict:
         d = {"pair": self.name, "robot": self.robot, "coupling": self.kind, "gap_mm": round(self.gap_mm, 3),
+             "design_gap_mm": None if self.design_gap_mm is None else round(self.design_gap_mm, 3),
              "interference_mm3": round(self.interference_mm3, 4), "ok": self.ok,
              "offset_mm": [round(v, 3) for v in self.offset_mm]}
         if self.play_mm is not None:
@@ -222,12 +249,44 @@ def dock(name: str, clearance_mm: float = DEFAULT_CLEARANCE_MM,
     return dock_robot(make_robot(ROBOT_OF_PAIR[name], clearance_mm), name, tuple(misalign_mm))
 
 
+def design_gap_mm(r, name: str) -> float:
+    """The face gap (mm) robot ``r``'s geometry is designed to dock at through coupling ``name``."""
+    if name in ("cubot-front-rear", "cube-robot-front-rear", "cube-robot-side"):
+        return r.fr_spec.design_gap_mm  # 0 (CuBot), the pins' overrun (Cube Robot, 1.7 mm)
+    if name == "cubot-top-down":
+        return r.top_spec.stand_mm  # the upper robot stands on its wheels; the key is made for it
+    if name == "octbot-ring":
+        return r.docked_gap_mm
+    return 0.0  # side rail, platform bolt: faces touch
+
+
+def require_docked(pairs, what: str = "--clearance-mm", then: str = "") -> None:
+    """Raise :class:`InputError` (one line) naming every pair that interferes or misses its
+    designed gap and the clearance (``what``) it was built with; ``then`` is appended
+    (e.g. ``"nothing written"``)."""
+    bad = [p for p in pairs if not p.ok]
+    if not bad:
+        return
+    cs = sorted({p.clearance_mm for p in bad if p.clearance_mm is not None})
+    at = f"{what} {', '.join(f'{c:g}' for c in cs)}: " if cs else ""
+    rows = "; ".join(f"{p.name}: {', '.join(p.problems())}" for p in bad)
+    raise InputError(f"{at}docked pair{'s' if len(bad) > 1 else ''} fail{'' if len(bad) > 1 else 's'} "
+                     f"({rows})" + (f"; {then}" if then else ""))
+
+
 def dock_robot(r, name: str, misalign_mm: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> DockedPair:
     """Dock two copies of robot ``r`` (any parameters) through coupling ``name``."""
     if name not in PAIRS:
         raise InputError(f"docked pair {name!r} is not one of {', '.join(PAIRS)}")
     if ROBOT_OF_PAIR[name] != r.name:
         raise InputError(f"docked pair {name!r} needs a {ROBOT_OF_PAIR[name]}, got {r.name}")
+    pair = _dock_robot(r, name, misalign_mm)
+    pair.design_gap_mm = float(design_gap_mm(r, name))
+    pair.clearance_mm = float(r.clearance_mm)
+    return pair
+
+
+def _dock_robot(r, name: str, misalign_mm: tuple[float, float, float]) -> DockedPair:
     if name in ("cubot-front-rear", "cube-robot-front-rear", "platform-bolt"):
         L = r.envelope_mm[0]
         open_ = list(r.placed)

@@ -10,12 +10,23 @@ Layout under the output directory::
     <robot>/<part>.3mf            with --format 3mf
     <robot>.step                  STEP assembly (printed parts + stand-ins for bought parts)
 
-Every file is written atomically (temporary file + rename).
+Nothing is written unless everything is: every input (robots, formats, material,
+clearance, and the docked pairs when given: interference and designed gap) is
+checked first, then the whole export is written into a hidden staging directory
+(``.<out>.partial-*`` in the nearest existing parent of a new ``--out``, or
+``.export.partial-*`` inside an existing one) and only then moved into place: a
+new ``--out`` appears complete with one rename; into an existing one the files
+are renamed one by one, manifest and properties last. A failure on the way
+removes the staging directory: no empty or partial ``--out`` is left and an
+existing ``robot_properties.json`` is kept.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
+import secrets
+import shutil
 import tempfile
 import time
 from collections.abc import Callable, Iterable
@@ -36,9 +47,18 @@ STL_ANGULAR_RAD = 0.15
 
 
 def make_robot(name: str, clearance_mm: float = DEFAULT_CLEARANCE_MM):
-    """The robot model ``name`` with the given print clearance (shared instance: parts build once)."""
+    """The robot model ``name`` with the given print clearance (shared instance: parts build once).
+
+    Every robot builds at every clearance :func:`~cubot_cad.part.check_clearance` accepts (the
+    tests hold that); should one not, the error names ``--clearance-mm``, the value a user set,
+    rather than a connector dimension the command line cannot reach."""
     check_clearance(clearance_mm, "--clearance-mm")
-    return _make_robot(name, float(clearance_mm))
+    if name not in ROBOT_NAMES:
+        raise InputError(f"--robot {name!r} is not one of {', '.join(ROBOT_NAMES)}, all")
+    try:
+        return _make_robot(name, float(clearance_mm))
+    except InputError as exc:
+        raise InputError(f"--clearance-mm {clearance_mm:g}: the {name} cannot be built with it ({exc})") from None
 
 
 @lru_cache(maxsize=32)
@@ -113,6 +133,59 @@ def _atomic_via(path: Path, writer: Callable[[str], None]) -> None:
         raise
 
 
+def _nearest_existing(p: Path) -> Path:
+    p = p.absolute()
+    while not p.exists() and p != p.parent:
+        p = p.parent
+    return p
+
+
+@contextlib.contextmanager
+def staged_output(out: Path):
+    """Yield a hidden, empty staging directory for everything that goes to ``out``; on success
+    move it into place (see the module docstring), on any failure remove it."""
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise InputError(f"--out {out}: is a file, not a directory")
+    tag = f"{os.getpid()}-{secrets.token_hex(4)}"
+    if out.is_dir():
+        stage = out / f".export.partial-{tag}"
+    else:
+        anchor = _nearest_existing(out.parent)
+        if not anchor.is_dir():
+            raise InputError(f"--out {out}: {anchor} is a file, not a directory")
+        stage = anchor / f".{out.name or 'export'}.partial-{tag}"
+    stage.mkdir()
+    try:
+        yield stage
+        _commit(stage, out)
+    except BaseException:
+        shutil.rmtree(stage, ignore_errors=True)
+        raise
+
+
+#: Moved into an existing output directory last, so a reader never sees a new manifest or
+#: properties record next to old parts.
+_LAST = ("robot_properties.json", "manifest.json")
+
+
+def _commit(stage: Path, out: Path) -> None:
+    if not out.exists():
+        out.parent.mkdir(parents=True, exist_ok=True)
+        os.rename(stage, out)
+        return
+    def order(f: Path):
+        rel = f.relative_to(stage).as_posix()
+        return (1 + _LAST.index(rel) if rel in _LAST else 0, rel)
+
+    files = sorted((f for f in stage.rglob("*") if f.is_file()), key=order)
+    for src in files:
+        dst = out / src.relative_to(stage)
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        os.replace(src, dst)
+    shutil.rmtree(stage)
+
+
 def mesh_of(shape, tolerance: float = STL_TOLERANCE_MM, angular: float = STL_ANGULAR_RAD):
     """Tessellate an OCC shape into a trimesh.Trimesh (mm)."""
     import numpy as np
@@ -161,12 +234,16 @@ class ExportResult:
 
 def export_robots(robots: Iterable[str], out: str | os.PathLike, formats: Iterable[str] = ("stl", "step"),
                   material_name: str = "abs", clearance_mm: float = DEFAULT_CLEARANCE_MM,
-                  progress: Callable | None = None, gaps: dict[str, dict[str, float]] | None = None) -> ExportResult:
+                  progress: Callable | None = None, gaps: dict[str, dict[str, float]] | None = None,
+                  pairs: list | None = None) -> ExportResult:
     """Export the named robots' printable parts, assemblies, manifest and properties under ``out``.
 
-    ``gaps`` (robot -> coupling kind -> mm) passes docked gaps measured by
-    :mod:`cubot_cad.docking` into the connector records; without it the
-    geometric design gap of each connector is used.
+    ``pairs`` (:class:`~cubot_cad.docking.DockedPair` measured at this clearance) are checked
+    first: if any interferes or misses its designed gap, :class:`InputError` and nothing is
+    written; otherwise their gaps go into the connector records and their summaries into the
+    manifest. ``gaps`` (robot -> coupling kind -> mm) passes measured gaps directly; with
+    neither, the geometric design gap of each connector is used. All or nothing: see
+    :func:`staged_output`.
     """
     t0 = time.perf_counter()
     robots = tuple(robots)
@@ -174,8 +251,20 @@ def export_robots(robots: Iterable[str], out: str | os.PathLike, formats: Iterab
     mat = material(material_name)
     check_clearance(clearance_mm, "--clearance-mm")
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     models = {name: make_robot(name, clearance_mm) for name in robots}
+    if pairs is not None:
+        from .docking import measured_gaps, require_docked
+
+        require_docked(pairs, "--clearance-mm", "nothing written")
+        gaps = {**(gaps or {}), **measured_gaps(pairs)}
+    with staged_output(out) as stage:
+        res = _write_export(stage, models, formats, material_name, mat, clearance_mm, progress, gaps, pairs)
+    return ExportResult(out, material_name, clearance_mm, res["parts"], res["robots"], res["step_files"],
+                        time.perf_counter() - t0, out / "manifest.json", out / "robot_properties.json")
+
+
+def _write_export(out: Path, models: dict, formats: tuple, material_name: str, mat: dict, clearance_mm: float,
+                  progress, gaps, pairs) -> dict:
     jobs = [(name, part, qty) for name, r in models.items() for part, qty in r.printable_parts()]
     it = progress(jobs, "cad export", len(jobs)) if progress else jobs
     records: list[PartRecord] = []
@@ -226,7 +315,7 @@ def export_robots(robots: Iterable[str], out: str | os.PathLike, formats: Iterab
         props[name] = r.robot_properties(material_name, source=source) if not gaps or name not in gaps else \
             _with_gaps(r, material_name, source, gaps[name])
     pfile = RobotPropertiesFile(robots=tuple(props.values()))
-    ppath = pfile.save(out / "robot_properties.json")
+    pfile.save(out / "robot_properties.json")
     robots_summary = {}
     for name, r in models.items():
         mp = r.mass_properties(material_name)
@@ -244,9 +333,10 @@ def export_robots(robots: Iterable[str], out: str | os.PathLike, formats: Iterab
         "stl_tolerance_mm": STL_TOLERANCE_MM, "robots": robots_summary,
         "parts": [vars(p) for p in records],
     }
-    mpath = write_json_atomic(out / "manifest.json", manifest)
-    return ExportResult(out, material_name, clearance_mm, records, robots_summary, step_files,
-                        time.perf_counter() - t0, mpath, ppath)
+    if pairs is not None:
+        manifest["docked_pairs"] = [p.summary() for p in pairs]
+    write_json_atomic(out / "manifest.json", manifest)
+    return {"parts": records, "robots": robots_summary, "step_files": step_files}
 
 
 def _with_gaps(robot, material_name: str, source: str, gaps: dict[str, float]):

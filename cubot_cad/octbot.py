@@ -19,7 +19,7 @@ from . import couplings
 from .components import Component
 from .connectors import CasterSeat
 from .cubot import check_dims
-from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, check_clearance, need
+from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, at_least, check_clearance, need
 from .robot import Placed, Robot
 
 MIN_SENSOR_GAP_MM = 40.0
@@ -45,11 +45,11 @@ class RingSpec:
         check_dims(self, ("plate_mm", "lip_mm", "lip_radius_mm", "tube_wall_mm", "finger_mm", "hook_mm",
                           "hook_overlap_mm", "finger_travel_mm", "centre_z_mm"))
         for n in ("plate_mm", "lip_mm", "tube_wall_mm", "finger_mm", "hook_mm"):
-            need(getattr(self, n) >= MIN_WALL_MM, f"{n} {getattr(self, n):g} is thinner than {MIN_WALL_MM:g} mm")
-        need(self.finger_travel_mm >= self.hook_overlap_mm + self.clearance_mm,
+            need(at_least(getattr(self, n), MIN_WALL_MM), f"{n} {getattr(self, n):g} is thinner than {MIN_WALL_MM:g} mm")
+        need(at_least(self.finger_travel_mm, self.hook_overlap_mm + self.clearance_mm),
              f"finger_travel_mm {self.finger_travel_mm:g} cannot pull the hooks ({self.hook_overlap_mm:g} mm) "
              "back through the lip")
-        need(self.finger_radius_mm - self.finger_mm / 2 - self.finger_travel_mm >= 0.5,
+        need(at_least(self.finger_radius_mm - self.finger_mm / 2 - self.finger_travel_mm, 0.5),
              f"lip_radius_mm {self.lip_radius_mm:g} is too small for three {self.finger_mm:g} mm fingers that close "
              f"by {self.finger_travel_mm:g} mm")
 

@@ -29,6 +29,32 @@ NOZZLE_MM = 0.4
 MIN_WALL_MM = 2 * NOZZLE_MM
 BED_MM = (250.0, 210.0, 210.0)
 
+#: The range of print clearance (per side) every robot is built and docked with.
+#:
+#: Minimum 0.1 mm: common FDM fit tables put the tightest fit that still assembles
+#: (a press/tight fit) at about 0.05-0.15 mm per side, because a well-tuned FDM
+#: printer holds about +-0.1..0.2 mm and holes print undersize (general FDM
+#: practice, not a measurement of ours; a maker with a calibrated printer can
+#: measure a test coupling and choose within the range).
+#: Below it the parts would not go together, and the CAD model cannot show it
+#: either: at 0 the pins' and holes' coincident walls tessellate into each other
+#: (CuBot front-rear docked 5 mm short with 12 mm^3 of interference).
+MIN_CLEARANCE_MM = 0.1
+#: Maximum 0.5 mm: the loose end of the same FDM tables (0.3-0.5 mm per side),
+#: and as far as the thesis's connector dimensions go (1 mm, advertised before,
+#: cannot be built with them). Just above it: OctBot's fingers travel 2.5 mm,
+#: exactly the 2 mm hook overlap plus 0.5 mm, so they no longer clear the ring's
+#: lip; from 0.55 mm the latch blade's arc slots (pin groove + 2 clearances wide)
+#: leave less than two nozzle widths to the blade's edge (16 mm blade, 7 mm pin
+#: circle); adjacent Cube Robot blocks collide above 0.8 mm; at 0.8 mm the slot is
+#: as wide as the 5 mm pin, so the blade would hold nothing; and the widened
+#: dovetail groove reaches the rail's IR holes from about 0.87 mm (24 mm rail).
+MAX_CLEARANCE_MM = 0.5
+#: Comparisons of derived lengths (sums of mm values) use this tolerance, so that
+#: a limit met exactly (3 - 1.8 - 0.4 = 0.7999999999999998 against 0.8) passes.
+#: 1e-6 mm is far below any printable feature and far above float rounding.
+LENGTH_TOL_MM = 1e-6
+
 #: Printing materials: density in kg/m^3 and Young's modulus in Pa (typical FDM values).
 MATERIALS: dict[str, dict[str, float]] = {
     "abs": {"density_kg_m3": 1040.0, "youngs_modulus_pa": 2.2e9},
@@ -44,15 +70,36 @@ def material(name: str) -> dict[str, float]:
     return MATERIALS[key]
 
 
+def clearance_range_text() -> str:
+    """The advertised clearance range, as CLI help and error messages print it."""
+    return f"{MIN_CLEARANCE_MM:g}-{MAX_CLEARANCE_MM:g} mm"
+
+
 def check_clearance(clearance_mm: float, where: str = "clearance_mm") -> float:
-    """Validate the print clearance (0 <= c <= 1 mm)."""
-    if not isinstance(clearance_mm, (int, float)) or not math.isfinite(clearance_mm):
+    """Validate the print clearance per side: ``MIN_CLEARANCE_MM <= c <= MAX_CLEARANCE_MM``
+    (within :data:`LENGTH_TOL_MM`); :class:`InputError` naming ``where`` and the value otherwise."""
+    if not isinstance(clearance_mm, (int, float)) or isinstance(clearance_mm, bool) \
+            or not math.isfinite(clearance_mm):
         raise InputError(f"{where} must be a number, got {clearance_mm!r}")
-    if clearance_mm < 0:
-        raise InputError(f"{where} must be >= 0 mm, got {clearance_mm}")
-    if clearance_mm > 1.0:
-        raise InputError(f"{where} {clearance_mm} mm is larger than any FDM printer needs (max 1 mm)")
+    if clearance_mm < MIN_CLEARANCE_MM - LENGTH_TOL_MM:
+        raise InputError(f"{where} {clearance_mm:g} mm is below the printable minimum {MIN_CLEARANCE_MM:g} mm "
+                         f"per side (FDM parts need a clearance to go together; range {clearance_range_text()})")
+    if clearance_mm > MAX_CLEARANCE_MM + LENGTH_TOL_MM:
+        raise InputError(f"{where} {clearance_mm:g} mm is above the maximum {MAX_CLEARANCE_MM:g} mm per side "
+                         f"(the thesis's connectors cannot be built looser: OctBot's fingers would not clear "
+                         f"the ring's lip, the latch blade's slots would break its edge; "
+                         f"range {clearance_range_text()})")
     return float(clearance_mm)
+
+
+def at_least(value: float, limit: float) -> bool:
+    """``value >= limit`` for derived lengths, within :data:`LENGTH_TOL_MM`."""
+    return value >= limit - LENGTH_TOL_MM
+
+
+def at_most(value: float, limit: float) -> bool:
+    """``value <= limit`` for derived lengths, within :data:`LENGTH_TOL_MM`."""
+    return value <= limit + LENGTH_TOL_MM
 
 
 def need(cond: bool, message: str) -> None:
@@ -104,7 +151,7 @@ class Part:
     # -- derived facts ----------------------------------------------------
     def wall_check(self, pname: str, value: float) -> None:
         """A wall (``pname`` = ``value`` mm) must be at least two nozzle widths thick."""
-        need(value >= MIN_WALL_MM - 1e-9,
+        need(at_least(value, MIN_WALL_MM),
              f"{type(self).__name__}.{pname} = {value:g} mm is thinner than two nozzle widths ({MIN_WALL_MM:g} mm)")
 
     @cached_property

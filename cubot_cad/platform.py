@@ -13,7 +13,7 @@ from typing import ClassVar
 from . import couplings
 from .components import Component
 from .cubot import check_dims
-from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, check_clearance, need
+from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, at_least, check_clearance, need
 from .robot import Placed, Robot
 
 
@@ -31,9 +31,9 @@ class PlatformPlate(Part):
 
     def validate(self) -> None:
         c = self.clearance_mm
-        need(self.thickness_mm / 2 - c >= MIN_WALL_MM,
+        need(at_least(self.thickness_mm / 2 - c, MIN_WALL_MM),
              f"thickness_mm {self.thickness_mm:g} leaves a lap joint half thinner than {MIN_WALL_MM:g} mm")
-        need(self.tab_length_mm >= self.bolt_mm + 2 * c + 2 * MIN_WALL_MM + 2,
+        need(at_least(self.tab_length_mm, self.bolt_mm + 2 * c + 2 * MIN_WALL_MM + 2),
              f"tab_length_mm {self.tab_length_mm:g} is too short for the {self.bolt_mm:g} mm bolt hole")
         need(self.tab_width_mm <= self.width_mm - 4 * MIN_WALL_MM,
              f"tab_width_mm {self.tab_width_mm:g} must be narrower than width_mm {self.width_mm:g}")

@@ -62,3 +62,114 @@ def test_pipeline_stage_sets_the_context(tmp_path, pairs):
     assert RobotPropertiesFile.load(ctx["robot_properties"]).get("cubot").mass_kg > 0.2
     assert ctx["cad_dir"] == str(tmp_path / "cad")
     assert (tmp_path / "cad" / "manifest.json").exists()
+
+
+# --- the clearance range on the command line -------------------------------------------------
+
+@pytest.mark.parametrize("sub", ["export", "dock", "render"])
+@pytest.mark.parametrize("value", ["0", "0.05", "0.09", "0.51", "1"])
+def test_a_clearance_outside_the_range_is_refused_before_any_work(cli, tmp_path, sub, value):
+    """`--clearance-mm 0` used to exit 0 and write a record with a 5.06 mm front-rear gap and
+    12.1 mm^3 of interference; now: exit 2, one line naming the value, nothing created."""
+    out = tmp_path / "new"
+    res = cli("cad", sub, "--clearance-mm", value, "--out", str(out))
+    assert res.code == 2, res.err
+    assert len(res.error_lines) == 1 and res.error_lines[0].startswith(f"error: --clearance-mm {value} mm ")
+    assert "0.1-0.5 mm" in res.error_lines[0]
+    assert not out.exists()
+
+
+# --- an export is all or nothing ---------------------------------------------------------------
+
+def _tree(d):
+    return sorted(str(p.relative_to(d)) for p in d.rglob("*"))
+
+
+@pytest.fixture
+def good_export(cli, tmp_path):
+    """A finished `cad export --robot platform` in tmp/good: its files and record bytes."""
+    out = tmp_path / "good"
+    res = cli("cad", "export", "--robot", "platform", "--out", str(out))
+    assert res.code == 0, res.err
+    return out, _tree(out), (out / "robot_properties.json").read_bytes()
+
+
+@pytest.mark.parametrize("failure", ["interference", "gap"])
+def test_an_export_whose_docked_pair_fails_exits_2_and_writes_nothing(cli, tmp_path, monkeypatch, good_export,
+                                                                      failure):
+    import dataclasses
+
+    import cubot_cad.docking as docking
+    from cubot_cad.export import make_robot
+
+    real = docking.dock("platform-bolt", 0.2)
+    if failure == "interference":  # a real overlap: the rear plate's recess shifted 1 mm onto the tab
+        bad = docking.dock_robot(make_robot("platform", 0.2), "platform-bolt", (0.0, 1.0, 0.0))
+        assert bad.interference_mm3 > docking.INTERFERENCE_LIMIT_MM3
+    else:  # docked 5.06 mm short of its designed (touching) gap
+        bad = dataclasses.replace(real, gap_mm=5.06)
+    monkeypatch.setattr(docking, "dock", lambda name, clearance_mm=0.2, misalign_mm=(0, 0, 0): bad)
+    out, tree, record = good_export
+    for target in (out, tmp_path / "fresh" / "sub"):
+        res = cli("cad", "export", "--robot", "platform", "--out", str(target))
+        assert res.code == 2, res.err
+        assert len(res.error_lines) == 1, res.err
+        line = res.error_lines[0]
+        assert line.startswith("error: --clearance-mm 0.2: docked pair fails (platform-bolt: ")
+        assert ("interference" in line) if failure == "interference" else ("gap 5.06 mm, designed 0.00" in line)
+        assert line.endswith("nothing written")
+    assert _tree(out) == tree and (out / "robot_properties.json").read_bytes() == record
+    assert not (tmp_path / "fresh").exists()
+
+
+def test_a_failed_export_leaves_no_trace(cli, tmp_path, monkeypatch, good_export):
+    """An internal failure half-way (the third part's mesh) removes everything it wrote: no new
+    empty or partial --out, nothing added to or replaced in an existing one."""
+    import cubot_cad.export as export
+
+    real, calls = export.mesh_of, []
+
+    def failing(*a, **k):
+        calls.append(1)
+        if len(calls) == 3:
+            raise RuntimeError("disk on fire")
+        return real(*a, **k)
+
+    monkeypatch.setattr(export, "mesh_of", failing)
+    out, tree, record = good_export
+    for target in (tmp_path / "fresh" / "sub", out):
+        calls.clear()
+        res = cli("cad", "export", "--robot", "cubot", "--no-dock", "--format", "stl", "--out", str(target))
+        assert res.code == 1 and "disk on fire" in res.err, res.err
+    assert not (tmp_path / "fresh").exists()
+    assert _tree(out) == tree and (out / "robot_properties.json").read_bytes() == record
+
+
+def test_an_export_into_an_existing_directory_replaces_its_files(cli, good_export):
+    out, tree, _ = good_export
+    before = (out / "manifest.json").stat().st_mtime_ns
+    res = cli("cad", "export", "--robot", "platform", "--format", "stl", "--out", str(out))
+    assert res.code == 0, res.err
+    assert _tree(out) == tree  # same files (the old STEP kept), no staging directory left behind
+    assert (out / "manifest.json").stat().st_mtime_ns > before
+
+
+# --- cad check reports every unreadable STL ---------------------------------------------------
+
+def test_check_reports_every_unreadable_stl_and_then_exits_2(cli, tmp_path):
+    import trimesh
+
+    trimesh.creation.box((20, 20, 10)).export(tmp_path / "good.stl")
+    (tmp_path / "a_zeros.stl").write_bytes(b"\x00" * 10)
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "b_empty.stl").write_text("solid nothing\nendsolid nothing\n")
+    res = cli("cad", "check", str(tmp_path), "--no-slice")
+    assert res.code == 2, res.err
+    assert len(res.error_lines) == 2 and all(ln.startswith("error: ") for ln in res.error_lines)
+    assert "a_zeros.stl" in res.error_lines[0] and "b_empty.stl" in res.error_lines[1]
+    assert "ok   good.stl" in res.out and "1/1 parts printable, 2 unreadable" in res.out
+    res = cli("cad", "check", str(tmp_path), "--no-slice", "--json")
+    assert res.code == 2
+    out = res.json()
+    assert out["files"] == 3 and [p["file"] for p in out["parts"]] == ["good.stl"]
+    assert [u["file"] for u in out["unreadable"]] == ["a_zeros.stl", "sub/b_empty.stl"]

@@ -1,10 +1,13 @@
-"""Docked pairs: interference <= 1 mm^3 at the default clearance, and gaps that come out of the geometry."""
+"""Docked pairs: interference <= 1 mm^3 at the default clearance, and gaps that come out of the
+geometry and match what the robots are designed for."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import pytest
 
-from cubot_cad.docking import INTERFERENCE_LIMIT_MM3, PAIRS
+from cubot_cad.docking import GAP_TOLERANCE_MM, INTERFERENCE_LIMIT_MM3, PAIRS
 
 
 @pytest.mark.parametrize("name", PAIRS)
@@ -12,6 +15,42 @@ def test_docked_pair_interference_is_at_most_one_cubic_mm(pairs, name):
     p = pairs[name]
     assert p.interference_mm3 <= INTERFERENCE_LIMIT_MM3, p.summary()
     assert p.open_interference_mm3 <= INTERFERENCE_LIMIT_MM3
+    assert abs(p.gap_mm - p.design_gap_mm) <= GAP_TOLERANCE_MM, p.summary()
+    assert p.ok and p.problems() == []
+
+
+def test_a_pair_that_interferes_or_misses_its_designed_gap_fails_naming_it(pairs):
+    """What `--clearance-mm 0` produced (CuBot front-rear 5.06 mm apart, 12.1 mm^3 of overlap) is
+    not ok, and require_docked (which guards the export) says so in one line."""
+    from cubot_cad.docking import require_docked
+    from cubot_cad.errors import InputError
+
+    good = pairs["cubot-front-rear"]
+    far = dataclasses.replace(good, gap_mm=5.06)
+    assert far.interference_ok and not far.gap_ok and not far.ok
+    both = dataclasses.replace(good, gap_mm=5.06, interference_mm3=12.1)
+    assert not both.ok and len(both.problems()) == 2
+    require_docked([good, pairs["cube-robot-front-rear"]])  # ok: no error
+    with pytest.raises(InputError) as exc:
+        require_docked([good, both], then="nothing written")
+    msg = str(exc.value)
+    assert "\n" not in msg and msg.startswith("--clearance-mm 0.2: ")
+    assert "cubot-front-rear" in msg and "gap 5.06 mm, designed 0.00" in msg and "12.1 mm^3" in msg
+    assert msg.endswith("nothing written")
+
+
+def test_designed_gaps_are_the_robots_own():
+    from cubot_cad.cube_robot import CubeRobot
+    from cubot_cad.cubot import CuBot
+    from cubot_cad.docking import design_gap_mm
+    from cubot_cad.octbot import OctBot
+
+    assert design_gap_mm(CuBot(), "cubot-front-rear") == 0.0
+    assert design_gap_mm(CuBot(), "cubot-top-down") == 15.0  # stands on its wheels
+    assert design_gap_mm(CuBot(wheel_exposed_mm=14.5), "cubot-top-down") == 14.5
+    assert design_gap_mm(CubeRobot(), "cube-robot-side") == pytest.approx(1.7)
+    assert design_gap_mm(CubeRobot(pin_overrun_mm=3.0), "cube-robot-front-rear") == pytest.approx(3.0)
+    assert design_gap_mm(OctBot(docked_gap_mm=55.0), "octbot-ring") == 55.0
 
 
 def test_docked_gaps_match_the_thesis(pairs):
@@ -23,7 +62,7 @@ def test_docked_gaps_match_the_thesis(pairs):
     assert pairs["octbot-ring"].gap_mm >= 40.0 - 0.02  # thesis: >= 40 mm
     # top-down: the upper robot stands on its wheels (15 mm exposed) on the lower's cover
     assert pairs["cubot-top-down"].gap_mm == pytest.approx(15.0, abs=0.02)
-    # the dovetail lets the pair be pulled apart only by about its flank clearance
+    # the dovetail lets the pair be pulled apart only by about its flank clearance (see test_rail)
     assert 0.2 <= pairs["cubot-side-rail"].play_mm <= 1.0
 
 
@@ -33,7 +72,7 @@ def test_a_misaligned_pair_shows_interference(pairs):
     from cubot_cad.docking import dock
 
     bad = dock("cubot-front-rear", 0.2, (0.0, 0.0, 0.6))
-    assert bad.interference_mm3 > INTERFERENCE_LIMIT_MM3
+    assert bad.interference_mm3 > INTERFERENCE_LIMIT_MM3 and not bad.ok
     assert bad.gap_mm == pytest.approx(pairs["cubot-front-rear"].gap_mm, abs=0.01)
 
 
@@ -46,7 +85,7 @@ def test_cube_robot_gap_is_pin_length_minus_latch_depth():
     assert r.fr_spec.protrusion_mm - r.fr_spec.latch_depth_mm == pytest.approx(3.0)
     p = dock_robot(r, "cube-robot-front-rear")
     assert p.gap_mm == pytest.approx(3.0, abs=0.02)
-    assert p.interference_mm3 <= INTERFERENCE_LIMIT_MM3
+    assert p.interference_mm3 <= INTERFERENCE_LIMIT_MM3 and p.design_gap_mm == pytest.approx(3.0) and p.ok
 
 
 def test_octbot_gap_follows_its_parameter():
@@ -55,7 +94,7 @@ def test_octbot_gap_follows_its_parameter():
 
     p = dock_robot(OctBot(docked_gap_mm=55.0), "octbot-ring")
     assert p.gap_mm == pytest.approx(55.0, abs=0.05)
-    assert p.interference_mm3 <= INTERFERENCE_LIMIT_MM3
+    assert p.interference_mm3 <= INTERFERENCE_LIMIT_MM3 and p.ok
 
 
 def test_manifold_interference_agrees_with_occ(pairs, robots):

@@ -47,12 +47,13 @@ def _bbox(shape):
     return tight_bbox(shape)
 
 
-def test_grooved_pin_volume_is_the_analytic_sum_of_its_cylinders():
+@pytest.mark.parametrize("c", (0.1, 0.2, 0.5))
+def test_grooved_pin_volume_is_the_analytic_sum_of_its_cylinders(c):
     from cubot_cad.connectors import FrontRearSpec, GroovedPin
 
-    s = FrontRearSpec()
+    s = FrontRearSpec(clearance_mm=c)
     pin = GroovedPin(spec=s)
-    x_head = -s.wall_mm - 3 * s.plate_mm
+    x_head = -s.wall_mm - 2 * s.plate_mm - s.locking_plate_mm  # back face of the pin-locking plate
     g0, g1 = pin.groove_mm
     expected = math.pi * ((s.head_diameter_mm / 2) ** 2 * s.head_mm
                           + (s.pin_diameter_mm / 2) ** 2 * (s.protrusion_mm - x_head - s.head_mm - (g1 - g0))
@@ -112,8 +113,13 @@ def test_every_printable_part_lies_flat_on_the_bed(robots):
      "groove_diameter_mm"),
     (lambda: __import__("cubot_cad.connectors", fromlist=["x"]).FrontRearSpec(blade_radius_mm=14.0),
      "blade_radius_mm"),
-    (lambda: __import__("cubot_cad.connectors", fromlist=["x"]).FrontRearSpec(head_diameter_mm=5.5),
-     "head_diameter_mm"),
+    (lambda: __import__("cubot_cad.connectors", fromlist=["x"]).FrontRearSpec(head_shoulder_mm=0.5),
+     "head_shoulder_mm"),
+    (lambda: __import__("cubot_cad.connectors", fromlist=["x"]).FrontRearSpec(head_wall_mm=0.6),
+     "head_wall_mm"),
+    (lambda: __import__("cubot_cad.connectors", fromlist=["x"]).FrontRearSpec(pin_diameter_mm=4.2,
+                                                                             clearance_mm=0.3),
+     "would not hold the pin"),
     (lambda: __import__("cubot_cad.connectors", fromlist=["x"]).FrontRearSpec(pin_protrusion_mm=5.0),
      "pin_protrusion_mm"),
     (lambda: __import__("cubot_cad.connectors", fromlist=["x"]).TopTwistSpec(key_protrusion_mm=14.5),

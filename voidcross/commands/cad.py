@@ -17,6 +17,12 @@ import sys
 import time
 from pathlib import Path
 
+from cubot_cad.part import (
+    DEFAULT_CLEARANCE_MM,
+    MAX_CLEARANCE_MM,
+    MIN_CLEARANCE_MM,
+    clearance_range_text,
+)
 from voidcross.output import emit, out_dir, progress
 
 EPILOG = """examples:
@@ -59,23 +65,22 @@ def _docked(robots, clearance):
 
 def do_export(out: Path, robots, formats, material: str, clearance: float, with_dock: bool = True,
               packaged_default: bool = False) -> dict:
-    from cubot_cad.docking import measured_gaps
-    from cubot_cad.export import export_robots
-    from cubot_cad.jsonrecord import read_json, write_json_atomic
+    """Dock, check and export; all or nothing (a failing docked pair is an InputError, exit 2,
+    and nothing is written: see :mod:`cubot_cad.export`)."""
+    from cubot_cad.export import ROBOT_NAMES, export_robots
     from cubot_cad.part import check_clearance
     from cubot_cad.part import material as mat
 
     check_clearance(clearance, "--clearance-mm")
     mat(material)
+    if packaged_default and tuple(robots) != ROBOT_NAMES:
+        from cubot_cad.errors import InputError
+
+        raise InputError("--packaged-default needs --robot all (the packaged file lists every robot)")
     t0 = time.perf_counter()
-    pairs = _docked(robots, clearance) if with_dock else []
-    res = export_robots(robots, out, formats, material, clearance, progress=_bar,
-                        gaps=measured_gaps(pairs) if pairs else None)
-    summary = [p.summary() for p in pairs]
-    if pairs:
-        manifest = read_json(res.manifest)
-        manifest["docked_pairs"] = summary
-        write_json_atomic(res.manifest, manifest)
+    pairs = _docked(robots, clearance) if with_dock else None
+    res = export_robots(robots, out, formats, material, clearance, progress=_bar, pairs=pairs)
+    summary = [p.summary() for p in pairs or []]
     payload = {
         "out": str(out), "material": material.upper(), "clearance_mm": clearance, "formats": list(formats),
         "parts": len(res.parts), "printed_items": sum(p.quantity for p in res.parts),
@@ -86,13 +91,8 @@ def do_export(out: Path, robots, formats, material: str, clearance: float, with_
         "step": res.step_files, "seconds": round(time.perf_counter() - t0, 2),
     }
     if packaged_default:
-        from cubot_cad.export import ROBOT_NAMES
         from cubot_cad.properties import RobotPropertiesFile, default_properties_path
 
-        if tuple(robots) != ROBOT_NAMES:
-            from cubot_cad.errors import InputError
-
-            raise InputError("--packaged-default needs --robot all (the packaged file lists every robot)")
         RobotPropertiesFile.load(res.properties).save(default_properties_path())
         payload["packaged_default"] = str(default_properties_path())
     return payload
@@ -106,7 +106,8 @@ def run_export(args) -> int:
     formats = parse_formats(args.format)
     check_clearance(args.clearance_mm, "--clearance-mm")
     material(args.material)
-    payload = do_export(out_dir(args.out), robots, formats, args.material, args.clearance_mm,
+    # --out is checked now but created only when the export succeeds (a failed one leaves no trace)
+    payload = do_export(out_dir(args.out, create=False), robots, formats, args.material, args.clearance_mm,
                         with_dock=not args.no_dock, packaged_default=args.packaged_default)
     lines = [f"exported {payload['parts']} distinct parts ({payload['printed_items']} printed items) of "
              f"{', '.join(robots)} to {payload['out']} in {payload['seconds']:.1f} s "
@@ -145,9 +146,9 @@ def run_dock(args) -> int:
         if args.step:
             for p in pairs:
                 p.assembly().export(str(d / f"{p.name}.step"), exportType="STEP")
-    human = "\n".join(f"{r['pair']:<24} gap {r['gap_mm']:7.3f} mm   interference {r['interference_mm3']:.4f} mm^3"
-                      + (f"   lateral play {r['play_mm']:.3f} mm" if "play_mm" in r else "")
-                      + ("" if r["ok"] else "   FAIL (> 1 mm^3)") for r in rows)
+    human = "\n".join(f"{p.name:<24} gap {p.gap_mm:7.3f} mm   interference {p.interference_mm3:.4f} mm^3"
+                      + (f"   lateral play {p.play_mm:.3f} mm" if p.play_mm is not None else "")
+                      + ("" if p.ok else f"   FAIL ({'; '.join(p.problems())})") for p in pairs)
     emit(args, {"clearance_mm": args.clearance_mm, "pairs": rows}, human)
     return 0 if all(r["ok"] for r in rows) else 1
 
@@ -161,8 +162,12 @@ def run_check(args) -> int:
     root = Path(args.dir)
     files = stl_files(root)
     do_slice = not args.no_slice
-    results = [check_file(f, root, do_slice=do_slice, samples=args.samples)
-               for f in progress(files, "cad check", len(files))]
+    results, unreadable = [], []
+    for f in progress(files, "cad check", len(files)):
+        try:
+            results.append(check_file(f, root, do_slice=do_slice, samples=args.samples))
+        except InputError as exc:  # unreadable: report it and go on with the others
+            unreadable.append({"file": str(f.relative_to(root)), "error": str(exc)})
     rows = []
     for r in results:
         row = dict(vars(r))
@@ -170,7 +175,8 @@ def run_check(args) -> int:
         rows.append(row)
     bad = [r for r in results if not r.ok]
     slicer = slicer_path()
-    payload = {"dir": str(root), "files": len(results), "failed": len(bad),
+    payload = {"dir": str(root), "files": len(results) + len(unreadable), "failed": len(bad),
+               "unreadable": unreadable,
                "slicer": slicer or None,
                "slicing": "ran" if (slicer and do_slice) else ("disabled (--no-slice)" if not do_slice else
                                                                "skipped: prusa-slicer not on PATH"),
@@ -190,8 +196,13 @@ def run_check(args) -> int:
         sliced = (f", print {sl.get('print_time')}, {sl.get('filament_g')} g" if sl.get("ok") else "")
         lines.append(f"{'ok  ' if r.ok else 'FAIL'} {r.file}: wall >= {r.thinnest_wall_mm} mm, "
                      f"size {r.size_mm} mm{sliced}" + (f" [{'; '.join(flags)}]" if flags else ""))
-    lines.append(f"{len(results) - len(bad)}/{len(results)} parts printable; slicing: {payload['slicing']}")
+    lines.append(f"{len(results) - len(bad)}/{len(results)} parts printable"
+                 + (f", {len(unreadable)} unreadable" if unreadable else "") + f"; slicing: {payload['slicing']}")
     emit(args, payload, "\n".join(lines))
+    if unreadable:  # bad input: one error line per file, exit 2 (after reporting the readable ones)
+        for u in unreadable:
+            print(f"error: {u['error']}", file=sys.stderr)
+        return 2
     return 0 if not bad else 1
 
 
@@ -272,8 +283,10 @@ def register(sub, common) -> None:
     def add_common(q, robot=True):
         if robot:
             q.add_argument("--robot", default="all", help="cubot, octbot, cube-robot, platform, a comma list or all")
-        q.add_argument("--clearance-mm", type=_clearance, default=0.2, metavar="MM",
-                       help="print clearance per side on every mating pair (default 0.2)")
+        q.add_argument("--clearance-mm", type=_clearance, default=DEFAULT_CLEARANCE_MM, metavar="MM",
+                       help=f"print clearance per side on every mating pair, {clearance_range_text()} "
+                            f"(default {DEFAULT_CLEARANCE_MM:g}; {MIN_CLEARANCE_MM:g} is a tight fit, "
+                            f"{MAX_CLEARANCE_MM:g} a loose one)")
 
     e = csub.add_parser("export", parents=[common], help="printable STL/STEP/3MF per part, manifest, robot_properties.json",
                         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
