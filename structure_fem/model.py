@@ -21,7 +21,16 @@
   over ``CONTACT_SMOOTHING_M``, under a bottom corner (Python user function); one bilateral horizontal spring at
   the rearmost support fixes the rigid-body x drift (gravity has no x part);
 * gravity is ramped over load steps by the static solver; the solver
-  settings are the ones the toolchain notes found to matter.
+  settings are the ones the toolchain notes found to matter. While the load is
+  small every joint slides through its play, where its tangent stiffness is only
+  the weak in-band spring (~1e-4 of the coupling's): a plain ramp then lets Newton
+  swing the joints far past the sharp band edges, and it cycled (``fem table
+  --clearance-mm 40``, robot mass x0.5, play x4 on the CuBot). So the dead bands
+  start smoothed over 10x their half-width and relax to the model's smoothing as
+  the load factor reaches 1 (:class:`SolverOptions`): the returned state is an
+  equilibrium of the model itself (the same as the plain ramp's wherever both
+  converge, to 1e-7 in the tests; near tipping, balanced on the ledge edge with
+  the rear unloaded, the play admits more than one and the path can pick another).
 
 Optional ``flexible=True`` adds each robot's own bending compliance
 ``L / (E I)`` (printed material modulus, hollow section ``I`` scaled by the
@@ -71,11 +80,23 @@ class Config:
 
 @dataclass(frozen=True)
 class SolverOptions:
+    """Static solver settings (see the module docstring and ``docs/structure_fem.md``).
+
+    ``smoothing_start`` / ``smoothing_power``: smoothing continuation of the dead bands. At
+    load factor ``t`` (the static solver's load-step time, 0 -> 1) every dead band is smoothed
+    over ``e(t) = e + (smoothing_start * h - e) (1 - t)^smoothing_power`` instead of the model's
+    ``e``: while gravity is small, and the joints slide through their play, the band is a smooth
+    softening spring; by ``t`` of about 0.3 it is the model's band, and at ``t = 1`` exactly
+    (the reported solution) it is ``e``. ``smoothing_start = 0`` switches it off.
+    """
+
     load_steps: int = 8
     absolute_tolerance: float = 1e-6
     relative_tolerance: float = 1e-6
     max_iterations: int = 40
     contact_n_per_m: float = CONTACT_N_PER_M
+    smoothing_start: float = 10.0
+    smoothing_power: int = 20
 
 
 @dataclass(frozen=True)
@@ -126,26 +147,38 @@ def solve(config: Config, robot: RobotProperties, conn: ConnectorSet | None = No
           flexible: bool = False, options: SolverOptions = SolverOptions()) -> StaticResult:
     """Build the exudyn system for ``config`` and solve it statically.
 
-    A failed Newton run is retried with 4x and 1/4 the load steps and a 100x
-    looser relative tolerance (the adaptive step control occasionally stalls on
-    one ramp and not another; very stiff pins leave a round-off floor);
-    if all fail, raises :class:`SolverFailure` naming the configuration.
+    The first run ramps gravity with the dead-band smoothing continuation of
+    ``options`` (:class:`SolverOptions`). A failed run is retried with 4x the
+    load steps and a 100x looser relative tolerance (very stiff pins leave a
+    round-off floor), then without the continuation (the plain gravity ramp)
+    with the given, 4x and 1/4 the load steps: near tipping, where the structure
+    balances on the ledge edge, the adaptive step control stalls on one path and
+    not another. A solution with a body turned past 90 degrees (upside down over
+    the edge, not a state the structure can reach) is not accepted. If all fail,
+    raises :class:`SolverFailure` naming the configuration.
     """
     if conn is None:
         conn = ConnectorSet.from_robot(robot)
     if flexible:
         conn = _flexible(conn, robot)
     loose = 100 * options.relative_tolerance  # stiff pins (1e8 N/m) put a round-off floor near 1e-8
-    attempts = (options, replace(options, load_steps=4 * options.load_steps, relative_tolerance=loose),
-                replace(options, load_steps=max(2, options.load_steps // 4), relative_tolerance=loose))
+    plain = replace(options, smoothing_start=0.0)
+    n = options.load_steps
+    attempts = (options, replace(options, load_steps=4 * n, relative_tolerance=loose),
+                plain, replace(plain, load_steps=4 * n, relative_tolerance=loose),
+                replace(plain, load_steps=max(2, n // 4), relative_tolerance=loose))
     last: SolverFailure | None = None
     for opt in attempts:
         try:
             return _solve_once(config, robot, conn, opt)
         except SolverFailure as exc:
             last = exc
-    raise SolverFailure(f"{last} (also retried with {attempts[1].load_steps} and {attempts[2].load_steps} "
-                        "load steps)")
+    tried = ", ".join(f"{o.load_steps}{'' if o.smoothing_start else ' plain'}" for o in attempts[1:])
+    raise SolverFailure(f"{last} (also retried with {tried} load steps)")
+
+
+#: A converged state with a body turned further than this (rad) is spurious: upside down.
+MAX_BODY_ROTATION_RAD = 0.5 * math.pi
 
 
 #: Compile the dead-band user functions to exudyn symbolic (C++) functions: same formula,
@@ -153,10 +186,15 @@ def solve(config: Config, robot: RobotProperties, conn: ConnectorSet | None = No
 SYMBOLIC = True
 
 
-def _dead_band_uf(mbs, h: float, e: float, k_reg: float, keep: list):
-    """The coupling's moment: smooth dead band of half-width ``h`` (smoothing ``e``) + ``k_reg`` u."""
+def _dead_band_uf(mbs, h: float, e: float, k_reg: float, keep: list, e0: float = 0.0, power: int = 20):
+    """The coupling's moment: smooth dead band of half-width ``h`` + ``k_reg`` u, smoothed over
+    ``e`` at load factor ``t = 1``; with ``e0 > e`` the smoothing starts at ``e0`` and relaxes to
+    ``e`` as ``e + (e0 - e) (1 - t)^power`` (see :class:`SolverOptions`)."""
+    ramp = e0 > e
+
     def py(mbs_, t, item, u, v, k, d, off):
-        return dead_band_moment(u, k, h, e) + k_reg * u
+        ee = e + (e0 - e) * max(0.0, 1.0 - t) ** power if ramp else e
+        return dead_band_moment(u, k, h, ee) + k_reg * u
 
     if not SYMBOLIC:
         return py
@@ -166,9 +204,11 @@ def _dead_band_uf(mbs, h: float, e: float, k_reg: float, keep: list):
     esym = exu.symbolic
 
     def sym(mbs_, t, item, u, v, k, d, off):
+        # t <= 1 in the static solver (the load factor is clamped to the load-step duration 1)
+        ee = e + (e0 - e) * esym.pow(1.0 - t, power) if ramp else e
         a = u - h
         b = u + h
-        return 0.5 * k * (a + esym.sqrt(a * a + e * e)) + 0.5 * k * (b - esym.sqrt(b * b + e * e)) + k_reg * u
+        return 0.5 * k * (a + esym.sqrt(a * a + ee * ee)) + 0.5 * k * (b - esym.sqrt(b * b + ee * ee)) + k_reg * u
 
     f = CreateSymbolicUserFunction(mbs, sym, "springForceUserFunction",
                                    itemTypeName="ObjectConnectorCoordinateSpringDamper")
@@ -229,7 +269,8 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
             # linear spring fixes it, carrying at most 1 % of m g L at the band edge.
             k_reg = min(1e-3 * kr, 0.01 * m0 / h)
 
-            uf = _dead_band_uf(mbs, h, e, k_reg, keep)
+            uf = _dead_band_uf(mbs, h, e, k_reg, keep, options.smoothing_start * h,
+                               options.smoothing_power)
             mbs.AddObject(ObjectConnectorCoordinateSpringDamper(markerNumbers=[ra, rb], stiffness=kr,
                                                                 springForceUserFunction=uf))
         else:
@@ -278,6 +319,9 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
     q = np.asarray(mbs.systemData.GetODE2Coordinates(), dtype=float)
     if ok is False or not np.all(np.isfinite(q)):
         raise SolverFailure(f"static solve did not converge for {what}")
+    turn = float(np.max(np.abs(q.reshape(-1, 3)[:, 2]))) if q.size else 0.0
+    if turn > MAX_BODY_ROTATION_RAD:
+        raise SolverFailure(f"static solve for {what} reached a spurious state (a body turned {turn:.3g} rad)")
     return _result(config, lay, q, robot, kc)
 
 

@@ -17,7 +17,14 @@ from dataclasses import asdict
 from pathlib import Path
 
 from .limits import StructureLimits, thesis_limits
-from .study import Derivation, TableRow, TaperRow, tapered_verdict
+from .study import (
+    TABLE_ROW_FAILURE,
+    Derivation,
+    TableRow,
+    TaperRow,
+    tapered_not_applicable,
+    tapered_verdict,
+)
 
 COLUMNS = (
     ("width", "w"), ("band", "band"), ("structure", "structure"), ("lines", "lines"), ("layers", "layers"),
@@ -62,7 +69,7 @@ def table_csv(rows: list[TableRow]) -> str:
     return buf.getvalue()
 
 
-def thresholds_md(d: Derivation, limits: StructureLimits) -> str:
+def thresholds_md(d: Derivation, limits: StructureLimits | None) -> str:
     th = d.thresholds()
     tt = thesis_limits().thresholds()
     lines = ["| structure | derived threshold (robot widths) | robots at it | thesis |", "|---|---|---|---|"]
@@ -77,7 +84,8 @@ def thresholds_md(d: Derivation, limits: StructureLimits) -> str:
         c = d.curve(name)
         n = c.robots[c.widths.index(t)] if t else "-"
         lines.append(f"| {name}{'' if used else ' (no band)'} | {t} | {n} | {thesis_of.get(name, '-')} |")
-    lines.append(f"| widest void crossed | {limits.max_span_widths} | - | {thesis_limits().max_span_widths} |")
+    widest = d.max_span if limits is None else limits.max_span_widths
+    lines.append(f"| widest void crossed | {widest} | - | {thesis_limits().max_span_widths} |")
     return "\n".join(lines)
 
 
@@ -143,7 +151,15 @@ def tapered_markdown(rows: list[TaperRow], d: Derivation, plot: str | None = Non
         + ("\nNotes: " + "; ".join(notes) + ".\n" if notes else ""))
 
 
-def table_markdown(rows: list[TableRow], d: Derivation, limits: StructureLimits, calibration: dict | None,
+def failures_markdown(rows: list[TableRow], d: Derivation) -> str:
+    """Rows that are not fully converged and every solve that did not converge (empty if none)."""
+    out = [f"w = {r.width}: {r.note}" for r in rows if not r.converged]
+    out += [f"{f.structure} at width {f.width}: {f.what} ({f.counted_as})" for f in d.failures
+            if f.counted_as != TABLE_ROW_FAILURE]
+    return ("\nStatic solves that did not converge: " + "; ".join(out) + ".\n") if out else ""
+
+
+def table_markdown(rows: list[TableRow], d: Derivation, limits: StructureLimits | None, calibration: dict | None,
                    tapered: str = "") -> str:
     inp = d.inputs
     head = "| " + " | ".join(h for _, h in COLUMNS) + " |"
@@ -167,11 +183,16 @@ def table_markdown(rows: list[TableRow], d: Derivation, limits: StructureLimits,
         f"thesis's count (3 n_g, 6 n_g, arch counts); \"tipping at thesis N\" is the rigid tipping factor "
         f"of this structure built with 3 n_g rows (n_p = 2 n_g), \"case A\" with 3 n_g + 2 rows.\n\n"
         f"## Thresholds\n\n{thresholds_md(d, limits)}\n{cal}\n"
-        f"## Table\n\n{head}\n{sep}\n" + "\n".join(body) + "\n\n"
-        f"Notes: {limits.notes}\n" + (f"\n{tapered}" if tapered else ""))
+        f"## Table\n\n{head}\n{sep}\n" + "\n".join(body) + "\n" + failures_markdown(rows, d) + "\n"
+        f"Notes: {limits.notes if limits is not None else _no_limits(d)}\n" + (f"\n{tapered}" if tapered else ""))
 
 
-def summary(d: Derivation, limits: StructureLimits, calibration: dict, files: dict[str, str],
+def _no_limits(d: Derivation) -> str:
+    return (f"No structure keeps the tip deflection of even a 1-wide void within the "
+            f"{d.inputs.clearance_m * 1e3:g} mm clearance: there is no limits record (limits.json is not written).")
+
+
+def summary(d: Derivation, limits: StructureLimits | None, calibration: dict, files: dict[str, str],
             rows: list[TableRow] | None = None, tapered: list[TaperRow] | None = None) -> dict:
     th = d.thresholds()
     out = {
@@ -180,8 +201,8 @@ def summary(d: Derivation, limits: StructureLimits, calibration: dict, files: di
         "robots_at_threshold": {c.structure.name: (c.robots[c.widths.index(c.threshold)] if c.threshold else None)
                                 for c in d.curves},
         "thesis_thresholds": {k: v for k, v in thesis_limits().thresholds().items()},
-        "max_span_widths": limits.max_span_widths,
-        "clearance_mm": limits.clearance_mm,
+        "max_span_widths": d.max_span if limits is None else limits.max_span_widths,
+        "clearance_mm": round(d.inputs.clearance_m * 1e3, 6) if limits is None else limits.clearance_mm,
         "robot": d.inputs.robot.name,
         "levels": [{"name": s.name, "widths": [lo, hi]} for s, lo, hi in d.levels],
         "calibration": calibration,
@@ -190,6 +211,9 @@ def summary(d: Derivation, limits: StructureLimits, calibration: dict, files: di
     if tapered is not None:
         out["thesis_tapering_arches"] = {"verdict": tapered_verdict(tapered, d.inputs.clearance_m * 1e3),
                                          "rows": [asdict(r) for r in tapered]}
+        why = tapered_not_applicable(d.inputs.connectors, d.inputs.robot.name)
+        if why:
+            out["thesis_tapering_arches"]["not_applicable"] = why
     if rows is not None:
         out["table"] = [{k: v for k, v in asdict(r).items()} for r in rows]
     return out

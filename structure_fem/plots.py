@@ -36,7 +36,7 @@ def deflection_plot(d: Derivation, path: str | Path) -> Path:
             ax.plot([c.threshold], [c.tip_mm[i]], marker="*", ms=12, color=ln.get_color())
     ax.axhline(clear, color="k", ls="--", lw=1, label=f"clearance {clear:g} mm")
     for t in sorted({lvl.max_span_widths for lvl in thesis_limits().levels}):
-        if t <= max(max(c.widths) for c in d.curves):
+        if t <= max((w for c in d.curves for w in c.widths), default=0):
             ax.axvline(t, color="grey", ls=":", lw=0.8)
     ax.set_yscale("log")
     ax.set_xlabel("void width (robot widths)")

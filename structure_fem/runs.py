@@ -17,7 +17,7 @@ from pathlib import Path
 from cubot_cad.properties import RobotProperties, RobotPropertiesFile, load_properties
 
 from .calibration import Calibration, calibrate, calibrated_connectors
-from .errors import InputError
+from .errors import InputError, SolverFailure
 from .limits import StructureLimits
 from .model import Config, solve
 from .outputs import (
@@ -28,7 +28,15 @@ from .outputs import (
     tapered_markdown,
     write_text_atomic,
 )
-from .study import Derivation, StudyInputs, derive, limits_from, table, tapered_arches
+from .study import (
+    Derivation,
+    NonConvergence,
+    StudyInputs,
+    derive,
+    limits_from,
+    table,
+    tapered_arches,
+)
 
 CONNECTOR_SOURCES = ("properties", "calibrated")
 Progress = Callable[[Iterable, str, int], Iterable]
@@ -92,13 +100,26 @@ def make_inputs(opts: RunOptions, props: RobotPropertiesFile | None = None,
     return inp, info
 
 
-def _alt_thresholds(inp: StudyInputs, info: dict, opts: RunOptions) -> None:
-    """Thresholds with the other connector source, for the calibration report."""
+def _alt_thresholds(inp: StudyInputs, info: dict, opts: RunOptions) -> list[tuple[str, NonConvergence]]:
+    """Thresholds with the other connector source, for the calibration report; returns its
+    non-converged solves with their context."""
     alt_opts = replace(opts, connectors="calibrated" if opts.connectors == "properties" else "properties")
     alt_inp, _ = make_inputs(alt_opts)
-    th = derive(alt_inp, extra=0).thresholds()
+    alt = derive(alt_inp, extra=0)
+    th = alt.thresholds()
     info["calibrated_alternative"]["thresholds_with_" + alt_opts.connectors + "_connectors"] = {
         k: th[k] for k in ("line", "two_line", "arch", "arch_levels")}
+    return [(f"{alt_opts.connectors} connectors alternative", f) for f in alt.failures]
+
+
+def not_converged(failures: Iterable[tuple[str, NonConvergence]]) -> dict:
+    """``{"not_converged": [...], "warnings": [...]}`` for a summary: every solve that did not
+    converge (with its context and what it was counted as) and one ``warning: ...`` line each."""
+    items, lines = [], []
+    for context, f in failures:
+        items.append({**f.to_dict(), "context": context})
+        lines.append(f.warning(context))
+    return {"not_converged": items, "warnings": lines}
 
 
 def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | Path | None = None,
@@ -109,39 +130,59 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
     (:func:`structure_fem.study.tapered_arches`; the derived limits do not depend on it) and,
     with ``plots``, draws them beside the derived uniform arches (``thesis_tapering_arches.png``,
     copied to ``docs_dir/img/`` with ``docs_dir``).
+
+    Solves that do not converge never abort the run: they count as failing (a width) or are
+    left out (a launch step, a plot) and are listed in the summary's ``not_converged`` with a
+    ``warnings`` line each. When no structure crosses even a 1-wide void there is no
+    limits record: ``limits.json`` is not written and ``warnings`` says so.
     """
     out = Path(out)
     inp, info = make_inputs(opts)  # bad input fails here, before anything is created
     d = derive(inp, progress, narrow=True)
-    limits = limits_from(d)
+    limits = limits_from(d) if d.levels else None
     rows = table(d, progress)
     tapered = tapered_arches(d, progress=progress)
-    if alternative:
-        _alt_thresholds(inp, info, opts)
+    alt_failures = _alt_thresholds(inp, info, opts) if alternative else []
     info["body_bending"] = body_bending(d)
     out.mkdir(parents=True, exist_ok=True)
     files: dict[str, str] = {}
-    if plots:
+    if plots and tapered:
         from .plots import tapered_plot
 
         files["tapered_plot"] = str(tapered_plot(d, tapered, out / TAPERED_PLOT))
         if docs_dir is not None:
             files["docs_tapered_plot"] = str(tapered_plot(d, tapered, Path(docs_dir) / "img" / TAPERED_PLOT))
-    link = TAPERED_PLOT if plots else None
+    link = TAPERED_PLOT if plots and tapered else None
     md = table_markdown(rows, d, limits, info, tapered_markdown(tapered, d, link))
     files.update({
         "markdown": str(write_text_atomic(out / "selection_table.md", md)),
         "csv": str(write_text_atomic(out / "selection_table.csv", table_csv(rows))),
         "tapered_csv": str(write_text_atomic(out / "thesis_tapering_arches.csv", tapered_csv(tapered))),
-        "limits": str(limits.save(out / "limits.json")),
     })
+    stale = False
+    if limits is not None:
+        files["limits"] = str(limits.save(out / "limits.json"))
+    elif (out / "limits.json").exists():  # an older record must not sit beside this table
+        (out / "limits.json").unlink()
+        stale = True
     if docs_dir is not None:
         docs_md = table_markdown(rows, d, limits, info,
-                                 tapered_markdown(tapered, d, f"img/{TAPERED_PLOT}" if plots else None))
+                                 tapered_markdown(tapered, d, f"img/{TAPERED_PLOT}" if link else None))
         files["docs_markdown"] = str(write_text_atomic(Path(docs_dir) / "structure_fem_table.md", docs_md))
     if plots:
         files.update(write_plots(out, d))
-    return summary(d, limits, info, files, rows, tapered)
+    res = summary(d, limits, info, files, rows, tapered)
+    res.update(not_converged([("", f) for f in d.failures] + alt_failures))
+    if limits is None:
+        res["warnings"].append(f"warning: {no_crossing(d)}; limits.json not written"
+                               + (f" (the older {out / 'limits.json'} was removed)" if stale else ""))
+    return res
+
+
+def no_crossing(d: Derivation) -> str:
+    """What it means when no structure crosses even a 1-wide void (valid input, no limits record)."""
+    return (f"no structure keeps the tip deflection of even a 1-wide void within the "
+            f"{d.inputs.clearance_m * 1e3:g} mm clearance for robot {d.inputs.robot.name!r}")
 
 
 #: File name of the tapering-arch plot (in the output directory, and under docs/img with --docs).
@@ -149,31 +190,44 @@ TAPERED_PLOT = "thesis_tapering_arches.png"
 
 
 def body_bending(d: Derivation) -> dict:
-    """How much the robots' own bending (``--flexible``) adds to the line's tip at its threshold."""
+    """How much the robots' own bending (``--flexible``) adds to the line's tip at its threshold
+    (``converged: false`` and the reason, instead of the numbers, if a solve does not converge)."""
     line = d.curve("line")
     w = max(line.threshold, 1)
-    cfg = Config(line.structure, line.rows[line.index(w, d.inputs)], w, w)
-    rigid = solve(cfg, d.inputs.robot, d.inputs.connectors).tip_deflection_m
-    flex = solve(cfg, d.inputs.robot, d.inputs.connectors, flexible=True).tip_deflection_m
+    try:
+        cfg = Config(line.structure, line.rows[line.index(w, d.inputs)], w, w)
+        rigid = solve(cfg, d.inputs.robot, d.inputs.connectors).tip_deflection_m
+        flex = solve(cfg, d.inputs.robot, d.inputs.connectors, flexible=True).tip_deflection_m
+    except SolverFailure as exc:
+        d.other_failures.append(NonConvergence(line.structure.name, w, "body-bending check (rigid vs flexible)",
+                                               "left out of the calibration report", str(exc)))
+        return {"line_width": w, "converged": False, "reason": str(exc)}
     return {"line_width": w, "rigid_tip_mm": round(rigid * 1e3, 4), "flexible_tip_mm": round(flex * 1e3, 4),
             "increase_percent": round(100 * (flex / rigid - 1), 2)}
 
 
 def write_plots(out: Path, d: Derivation) -> dict[str, str]:
+    """Deflection vs width and side views; a side view whose solve does not converge is left out
+    (and listed in ``d.other_failures``)."""
     from .plots import deflection_plot, side_view
+
+    def view(s, rows: int, w: int, name: str) -> None:
+        try:
+            res = solve(Config(s, rows, w, w), d.inputs.robot, d.inputs.connectors, d.inputs.flexible)
+        except SolverFailure as exc:
+            d.other_failures.append(NonConvergence(s.name, w, f"side view ({name})", "plot left out", str(exc)))
+            return
+        files[name.removesuffix(".png")] = str(side_view(res, out / name, d.inputs.robot.height_m))
 
     files = {"deflection_plot": str(deflection_plot(d, out / "deflection_vs_width.png"))}
     if d.levels:
         s, lo, hi = d.levels[-1]
         c = d.curve(s.name)
-        res = solve(Config(s, c.rows[c.widths.index(hi)], hi, hi), d.inputs.robot, d.inputs.connectors,
-                    d.inputs.flexible)
-        files["side_view"] = str(side_view(res, out / "side_view.png", d.inputs.robot.height_m))
+        view(s, c.rows[c.widths.index(hi)], hi, "side_view.png")
     line = d.curve("line")
-    w = line.threshold + 1 if line.threshold + 1 in line.widths else line.widths[-1]
-    res = solve(Config(line.structure, line.rows[line.widths.index(w)], w, w), d.inputs.robot,
-                d.inputs.connectors, d.inputs.flexible)
-    files["side_view_line"] = str(side_view(res, out / "side_view_line.png", d.inputs.robot.height_m))
+    if line.widths:
+        w = line.threshold + 1 if line.threshold + 1 in line.widths else line.widths[-1]
+        view(line.structure, line.rows[line.widths.index(w)], w, "side_view_line.png")
     return files
 
 
@@ -186,9 +240,12 @@ SENSITIVITY = (
 )
 
 
-def sensitivity(opts: RunOptions, progress: Progress | None = None, grid=SENSITIVITY) -> list[dict]:
+def sensitivity(opts: RunOptions, progress: Progress | None = None, grid=SENSITIVITY,
+                failures: list[tuple[str, NonConvergence]] | None = None) -> list[dict]:
     """Thresholds vs connector stiffness, backlash, robot mass and clearance (one factor at a time;
-    identical input sets are derived once)."""
+    identical input sets are derived once). ``not_converged`` lists the widths whose solve did not
+    converge (counted as failing); with ``failures`` their details are appended there, with the
+    grid point as context."""
     props = load_file(opts)
     cal = calibrate(props, opts.calibration_backlash)
     jobs = [(p, u, v) for p, u, vals in grid for v in vals]
@@ -201,13 +258,17 @@ def sensitivity(opts: RunOptions, progress: Progress | None = None, grid=SENSITI
              "clearance": replace(opts, clearance_mm=v, caster=False)}[p]
         inp, _ = make_inputs(o, props, cal)
         key = (inp.connectors, inp.robot, inp.clearance_m)
-        if key not in cache:
+        fresh = key not in cache
+        if fresh:
             cache[key] = derive(inp, extra=0)
         d = cache[key]
         th = d.thresholds()
+        failing = [f"{f.structure} {f.width}" for f in d.failures if f.counted_as == "counted as failing"]
         rows.append({"parameter": p, "unit": u, "value": v, "line": th["line"], "two_line": th["two_line"],
                      "arch": th["arch"], "arch_levels": " ".join(map(str, th["arch_levels"])),
-                     "max_span": d.max_span})
+                     "max_span": d.max_span, "not_converged": "; ".join(failing)})
+        if failures is not None and fresh:
+            failures.extend((f"sensitivity: {p} {v:g} {u}", f) for f in d.failures)
     return rows
 
 
@@ -230,7 +291,8 @@ def run_study(out: str | Path, opts: RunOptions = RunOptions(), progress: Progre
             w.writerow([c.structure.name, wd, f"{c.tip_mm[i]:.6g}", f"{tf:.6g}" if math.isfinite(tf) else "",
                         c.rows[i], c.robots[i]])
     files["curves_csv"] = str(write_text_atomic(out / "deflection_vs_width.csv", curves.getvalue()))
-    sens = sensitivity(opts, progress, grid)
+    sens_failures: list[tuple[str, NonConvergence]] = []
+    sens = sensitivity(opts, progress, grid, sens_failures)
     buf = io.StringIO()
     sw = csv.DictWriter(buf, fieldnames=list(sens[0]), lineterminator="\n")
     sw.writeheader()
@@ -240,7 +302,8 @@ def run_study(out: str | Path, opts: RunOptions = RunOptions(), progress: Progre
     th = d.thresholds()
     return {"thresholds": {k: th[k] for k in ("line", "two_line", "arch", "arch_levels")},
             "thresholds_per_structure": th["per_structure"], "clearance_mm": inp.clearance_m * 1e3,
-            "calibration": info, "sensitivity": sens, "files": files}
+            "calibration": info, "sensitivity": sens, "files": files,
+            **not_converged([("", f) for f in d.failures] + sens_failures)}
 
 
 def packaged_limits(properties: str | None = None) -> StructureLimits:

@@ -111,18 +111,67 @@ def _rigid_tipping(s: Structure, inp: StudyInputs, rows: int, w: int) -> float:
     return tipping_factor(lay.bodies, [b.com_m[0] for b in lay.bodies])
 
 
-def min_rows(s: Structure, w: int, inp: StudyInputs) -> tuple[int, StaticResult]:
-    """Fewest rows whose solved tipping factor at the longest cantilever exceeds the requirement."""
+@dataclass(frozen=True)
+class NonConvergence:
+    """A static solve that did not converge and what the study made of it (never silent).
+
+    ``structure`` and ``width`` (robot widths) name the case, ``what`` the configuration
+    (e.g. "longest cantilever"), ``counted_as`` the consequence (e.g. "counted as failing"),
+    ``reason`` the solver's message (:class:`~structure_fem.errors.SolverFailure`)."""
+
+    structure: str
+    width: int
+    what: str
+    counted_as: str
+    reason: str
+
+    def warning(self, context: str = "") -> str:
+        """One ``warning: ...`` line for stderr."""
+        ctx = f" ({context})" if context else ""
+        return (f"warning: {self.structure} at void width {self.width}{ctx}: {self.what} did not converge, "
+                f"{self.counted_as}: {self.reason}")
+
+    def to_dict(self) -> dict:
+        return {"structure": self.structure, "width": self.width, "what": self.what, "converged": False,
+                "counted_as": self.counted_as, "reason": self.reason}
+
+
+#: Row counts tried above the rigid minimum before a width counts as failing (not standing).
+MAX_EXTRA_ROWS = 20
+
+
+def min_rows(s: Structure, w: int, inp: StudyInputs,
+             failures: list[NonConvergence] | None = None) -> tuple[int, StaticResult]:
+    """Fewest rows whose solved tipping factor at the longest cantilever exceeds the requirement.
+
+    A row count whose solve does not converge counts as not standing and the next one is tried;
+    if one stands, one entry in ``failures`` says which counts were skipped. If none of them
+    stands, :class:`SolverFailure` (the width then counts as failing)."""
     need = inp.required_tipping * (1 + 1e-6)  # "exceeds": a factor of 1 + rounding is not standing
     rows = w + 1
     while _rigid_tipping(s, inp, rows, w) <= need:
         rows += 1
-    for _ in range(20):
-        res = solve(Config(s, rows, w, w), inp.robot, inp.connectors, inp.flexible)
+    skipped: list[int] = []
+    reason = ""
+    for _ in range(MAX_EXTRA_ROWS):
+        try:
+            res = solve(Config(s, rows, w, w), inp.robot, inp.connectors, inp.flexible)
+        except SolverFailure as exc:
+            skipped.append(rows)
+            reason = reason or str(exc)
+            rows += 1
+            continue
         if res.tipping_factor > need:
+            if skipped and failures is not None:
+                failures.append(NonConvergence(
+                    s.name, w, f"longest cantilever with {', '.join(map(str, skipped))} rows",
+                    f"counted as not standing, {rows} rows used", reason))
             return rows, res
         rows += 1
-    raise InputError(f"{s.name}: no row count up to {rows} keeps a {w}-wide cantilever standing")
+    if skipped:
+        raise SolverFailure(f"{s.name}: no converged solve keeps a {w}-wide cantilever standing with up to "
+                            f"{rows - 1} rows ({len(skipped)} did not converge; first: {reason})")
+    raise SolverFailure(f"{s.name}: no row count up to {rows - 1} keeps a {w}-wide cantilever standing")
 
 
 @dataclass
@@ -137,14 +186,17 @@ class Curve:
     rows: list[int] = field(default_factory=list)
     robots: list[int] = field(default_factory=list)
     threshold: int = 0
+    #: Solves that did not converge (the widths among them count as failing: not in ``widths``).
+    failures: list[NonConvergence] = field(default_factory=list)
 
     def index(self, w: int, inp: StudyInputs | None = None) -> int:
-        """Index of width ``w``, solving it first (minimal rows, longest cantilever) if missing."""
+        """Index of width ``w``, solving it first (minimal rows, longest cantilever) if missing;
+        :class:`SolverFailure` if that does not converge."""
         if w in self.widths:
             return self.widths.index(w)
         if inp is None:
             raise KeyError(f"{self.structure.name}: width {w} not solved")
-        rows, res = min_rows(self.structure, w, inp)
+        rows, res = min_rows(self.structure, w, inp, self.failures)
         i = bisect.bisect(self.widths, w)
         for name, v in (("widths", w), ("tip_mm", res.tip_deflection_mm), ("tipping", res.tipping_factor),
                         ("rows", rows), ("robots", res.robots)):
@@ -163,14 +215,23 @@ def structure_curve(s: Structure, inp: StudyInputs, extra: int = 1, tick: Callab
     overhang, same couplings), which the search relies on; ``extra`` widths past
     the first failing one are added for the plots (a solver failure there only
     ends the curve: those configurations are already out of bounds).
+
+    A width whose solve does not converge counts as failing (the last resort: the solver
+    settings of :mod:`structure_fem.model` converge on every shipped record); it is kept
+    in ``Curve.failures`` and reported, never dropped silently.
     """
     c = Curve(s)
     clear = inp.clearance_m * 1e3
 
     def passes(w: int) -> bool:
-        i = c.index(w, inp)
-        if tick:
-            tick()
+        try:
+            i = c.index(w, inp)
+        except SolverFailure as exc:
+            c.failures.append(NonConvergence(s.name, w, "longest cantilever", "counted as failing", str(exc)))
+            return False
+        finally:
+            if tick:
+                tick()
         return c.tip_mm[i] <= clear
 
     lo, hi, w = 0, None, 1
@@ -190,11 +251,13 @@ def structure_curve(s: Structure, inp: StudyInputs, extra: int = 1, tick: Callab
             else:
                 hi = mid
         for e in range(1, extra + 1):
-            if hi + e > inp.max_width:
+            if hi + e > inp.max_width or hi + e - 1 not in c.widths:
                 break
             try:
                 c.index(hi + e, inp)
-            except SolverFailure:
+            except SolverFailure as exc:
+                c.failures.append(NonConvergence(s.name, hi + e, "longest cantilever (past the threshold, "
+                                                 "for the plots)", "left out of the plots", str(exc)))
                 break
     c.threshold = lo
     return c
@@ -205,9 +268,16 @@ class Derivation:
     inputs: StudyInputs
     curves: list[Curve]
     levels: list[tuple[Structure, int, int]]  # (structure, first width, last width)
+    #: Non-converged solves outside the threshold search (table launch steps, tapering arches, plots).
+    other_failures: list[NonConvergence] = field(default_factory=list)
 
     def curve(self, name: str) -> Curve:
         return next(c for c in self.curves if c.structure.name == name)
+
+    @property
+    def failures(self) -> list[NonConvergence]:
+        """Every solve of this derivation that did not converge, and what was made of it."""
+        return [f for c in self.curves for f in c.failures] + list(self.other_failures)
 
     def thresholds(self) -> dict:
         """Each kind's own widest crossing: ``line``, best ``two_line``, first ``arch``, wider ``arch_levels``."""
@@ -274,6 +344,7 @@ def limits_from(d: Derivation, source: str = "derived") -> StructureLimits:
                if not narrow(c.structure) and all(c.structure != s for s, _, _ in d.levels)]
     narrows = [f"{c.structure.name} to {c.threshold} with {c.robots[c.widths.index(c.threshold)]} robots"
                for c in d.curves if narrow(c.structure) and c.threshold]
+    failing = [f"{f.structure} at width {f.width}" for f in d.failures if f.counted_as == "counted as failing"]
     notes = (f"Derived by structure_fem (exudyn planar multibody, penalty couplings with dead band) for "
              f"{inp.robot.name}: clearance {inp.clearance_m * 1e3:g} mm, tipping factor > {inp.required_tipping:g}. "
              f"Own thresholds per structure: {th['per_structure']}. "
@@ -284,6 +355,7 @@ def limits_from(d: Derivation, source: str = "derived") -> StructureLimits:
              + (f". No band (adds nothing over a cheaper structure): {', '.join(skipped)}" if skipped else "")
              + (f". Narrow 2-wide arches (fewer robots in-plane; not banded because their sideways stability "
                 f"is outside a planar model): {'; '.join(narrows)}" if narrows else "")
+             + (f". Static solves that did not converge, counted as failing: {'; '.join(failing)}" if failing else "")
              + ".")
     return StructureLimits(source=source, robot=inp.robot.name, clearance_mm=round(inp.clearance_m * 1e3, 6),
                            levels=tuple(lv), notes=notes, inputs=inp.provenance())
@@ -317,6 +389,10 @@ class TableRow:
     min_tipping_factor: float | None
     thesis_count_tipping: float | None
     case_a_count_tipping: float | None
+    #: False when a launch step or the bridged state of this row did not converge (``note`` says which;
+    #: the row's deflections and tipping then cover the converged states only).
+    converged: bool = True
+    note: str = ""
 
 
 def _split(s: Structure, rows_initial: int, rows_over: int, rows_target: int) -> tuple[int, int, int]:
@@ -324,6 +400,9 @@ def _split(s: Structure, rows_initial: int, rows_over: int, rows_target: int) ->
     per = s.layers * sum(s.parity_counts)
     return rows_initial * per, rows_over * per, rows_target * per
 
+
+#: What a launch step or bridged state of a table row that does not converge is counted as.
+TABLE_ROW_FAILURE = "left out of the table row"
 
 #: Launch sequences up to this width are solved at every step; wider ones at quarter points.
 FULL_STEPPING = 6
@@ -334,6 +413,19 @@ def launch_steps(w: int) -> list[int]:
     if w <= FULL_STEPPING:
         return list(range(1, w))
     return sorted({1, *(math.ceil(w * f) for f in (0.25, 0.5, 0.75))} - {w})
+
+
+def _row_solve(d: Derivation, cfg: Config, what: str, missing: list[str]) -> StaticResult | None:
+    """A table row's extra solve; ``None`` (noted in ``missing`` and ``d.other_failures``) if it
+    does not converge."""
+    inp = d.inputs
+    try:
+        return solve(cfg, inp.robot, inp.connectors, inp.flexible)
+    except SolverFailure as exc:
+        missing.append(what)
+        d.other_failures.append(NonConvergence(cfg.structure.name, int(cfg.void_widths), what, TABLE_ROW_FAILURE,
+                                               str(exc)))
+        return None
 
 
 def table(d: Derivation, progress: Callable[[Iterable, str, int], Iterable] | None = None,
@@ -355,14 +447,16 @@ def table(d: Derivation, progress: Callable[[Iterable, str, int], Iterable] | No
         i = c.index(w, inp)
         R = c.rows[i]
         tips, tfs = [c.tip_mm[i]], [c.tipping[i]]
+        missing: list[str] = []
         if step_launch:
             for g in launch_steps(w):
-                res = solve(Config(s, R, g, w), inp.robot, inp.connectors, inp.flexible)
-                tips.append(res.tip_deflection_mm)
-                tfs.append(res.tipping_factor)
+                res = _row_solve(d, Config(s, R, g, w), f"launch step with {g} rows over the void", missing)
+                if res is not None:
+                    tips.append(res.tip_deflection_mm)
+                    tfs.append(res.tipping_factor)
         n_o = (R - w) // 2
         n_p = R - w - n_o
-        bridged = solve(Config(s, R, w + n_o, w, "bridged"), inp.robot, inp.connectors, inp.flexible)
+        bridged = _row_solve(d, Config(s, R, w + n_o, w, "bridged"), "bridged state", missing)
         # Thesis count on this structure: N = 3 n_g rows (n_p = 2 n_g at the longest cantilever).
         t_tip = _rigid_tipping(s, inp, 3 * w, w)
         a_tip = _rigid_tipping(s, inp, 3 * w + 2, w)  # case A: n_p, n_o >= n_g + 1
@@ -371,8 +465,9 @@ def table(d: Derivation, progress: Callable[[Iterable, str, int], Iterable] | No
         maxdef = max(tips)
         rows_out.append(TableRow(
             w, f"{lo}-{hi}", s.name, s.lines, s.layers, c.robots[i], trob, li, lo_, lt, bi, bo, bt,
-            round(maxdef, 3), round(bridged.max_deflection_m * 1e3, 3), round(inp.clearance_m * 1e3 - maxdef, 3),
-            round(min(tfs), 4), round(t_tip, 4), round(a_tip, 4)))
+            round(maxdef, 3), None if bridged is None else round(bridged.max_deflection_m * 1e3, 3),
+            round(inp.clearance_m * 1e3 - maxdef, 3), round(min(tfs), 4), round(t_tip, 4), round(a_tip, 4),
+            not missing, "did not converge: " + ", ".join(missing) if missing else ""))
     return rows_out
 
 
@@ -426,7 +521,7 @@ def tapered_point(s: Structure, w: int, inp: StudyInputs) -> dict:
     foot = s.foot_rows
     before = Config(s, foot + w, w, w)
     need = inp.required_tipping * (1 + 1e-6)
-    out: dict = {"tip_mm": None, "tipping_factor": None, "bridged_max_mm": None, "note": ""}
+    out: dict = {"tip_mm": None, "tipping_factor": None, "bridged_max_mm": None, "note": "", "failures": []}
     lay = layout(s, inp.robot, inp.connectors, before.rows, w, w)
     rigid = tipping_factor(lay.bodies, [b.com_m[0] for b in lay.bodies])
     out["tipping_factor"] = rigid
@@ -437,13 +532,16 @@ def tapered_point(s: Structure, w: int, inp: StudyInputs) -> dict:
             res = solve(before, inp.robot, inp.connectors, inp.flexible)
             out["tip_mm"] = res.tip_deflection_mm
             out["tipping_factor"] = res.tipping_factor
-        except SolverFailure:
-            out["note"] = "no static equilibrium found before landing"
+        except SolverFailure as exc:
+            out["note"] = "the static solve before landing did not converge (counted as not holding)"
+            out["failures"].append(("before landing (core front at the far edge)", "counted as not holding",
+                                    str(exc)))
     try:
         br = solve(Config(s, 2 * foot + w, w + foot, w, "bridged"), inp.robot, inp.connectors, inp.flexible)
         out["bridged_max_mm"] = br.max_deflection_m * 1e3
-    except SolverFailure:
-        out["note"] = (out["note"] + "; " if out["note"] else "") + "no static equilibrium found bridged"
+    except SolverFailure as exc:
+        out["note"] = (out["note"] + "; " if out["note"] else "") + "the bridged static solve did not converge"
+        out["failures"].append(("bridged on both feet", "bridged deflection left out", str(exc)))
     return out
 
 
@@ -451,14 +549,25 @@ def _r(v: float | None, nd: int) -> float | None:
     return None if v is None or not math.isfinite(v) else round(v, nd)
 
 
+def tapered_not_applicable(conn: ConnectorSet, robot: str) -> str:
+    """Why the thesis's tapering arches cannot be built with these couplings ("" if they can)."""
+    missing = [name for name in ("side_rail", "top_twist") if getattr(conn, name) is None]
+    return (f"robot {robot!r} has no {' or '.join(missing)} connector: the thesis's tapering arches "
+            "(lines side by side, layers) cannot be built" if missing else "")
+
+
 def tapered_arches(d: Derivation, thesis: StructureLimits | None = None,
                    progress: Callable[[Iterable, str, int], Iterable] | None = None) -> list[TaperRow]:
     """Every width of every tapering level of the thesis preset, with our connectors and robot
     record (``d.inputs``), beside the derived uniform arches at the same width where they exist.
-    Reads the derivation's curves; solves nothing on them (the derived limits stay as they are)."""
+    Reads the derivation's curves; solves nothing on them (the derived limits stay as they are).
+    A robot without side rails and top twist-locks cannot build them: no rows
+    (:func:`tapered_not_applicable` says why)."""
     from .limits import thesis_limits
 
     inp = d.inputs
+    if tapered_not_applicable(inp.connectors, inp.robot.name):
+        return []
     thesis = thesis_limits(inp.robot.name) if thesis is None else thesis
     clear = inp.clearance_m * 1e3
     need = inp.required_tipping
@@ -470,6 +579,8 @@ def tapered_arches(d: Derivation, thesis: StructureLimits | None = None,
     for lvl, w in it:
         s = tapered_structure(lvl)
         p = tapered_point(s, w, inp)
+        d.other_failures.extend(NonConvergence(s.name, w, what, counted, reason)
+                                for what, counted, reason in p["failures"])
         band = next(((u, lo, hi) for u, lo, hi in d.levels if lo <= w <= hi), None)
         u_name = u_rob = u_tip = None
         if band is not None:

@@ -9,6 +9,7 @@ sub-command runs.
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from pathlib import Path
 
@@ -66,6 +67,12 @@ def _bar(iterable, desc, total):
     return progress(iterable, desc, total)
 
 
+def _warn(res: dict) -> None:
+    """One ``warning: ...`` line on stderr per solve that did not converge (``res["warnings"]``)."""
+    for line in res.get("warnings", ()):
+        print(line, file=sys.stderr)
+
+
 def run_table(args) -> int:
     from structure_fem.runs import run_table as _run
 
@@ -85,6 +92,7 @@ def run_table(args) -> int:
              + "\n".join(f"  {k}: {v}" for k, v in res["files"].items()))
     if not args.full_json:
         res.pop("table", None)
+    _warn(res)
     emit(args, res, human)
     return 0
 
@@ -93,6 +101,8 @@ def _tapered_line(t: dict | None) -> str:
     """One line: do the thesis's tapering arches hold under our mechanics?"""
     if not t:
         return ""
+    if t.get("not_applicable"):
+        return f"thesis tapering arches: not evaluated ({t['not_applicable']})\n"
     v, rows = t["verdict"], t["rows"]
     tips = [r["tip_mm"] for r in rows if r["tip_mm"] is not None]
     bridged = [r["bridged_max_mm"] for r in rows if r["bridged_max_mm"] is not None]
@@ -110,6 +120,7 @@ def run_study(args) -> int:
     human = (f"thresholds: line {th['line']}, two_line {th['two_line']}, arch {th['arch']}, "
              f"arch levels {th['arch_levels']} (clearance {res['clearance_mm']:g} mm)\n"
              + "\n".join(f"  {k}: {v}" for k, v in res["files"].items()))
+    _warn(res)
     emit(args, res, human)
     return 0
 
@@ -143,6 +154,7 @@ def _structure(args):
 
 
 def run_solve(args) -> int:
+    from structure_fem.errors import SolverFailure
     from structure_fem.model import Config, solve
     from structure_fem.runs import make_inputs
 
@@ -152,8 +164,17 @@ def run_solve(args) -> int:
         out_file(args.plot, "--plot")
     inp, _ = make_inputs(_opts(args))
     s = _structure(args)
-    res = solve(Config(s, args.rows, args.over, args.void, args.phase), inp.robot, inp.connectors, inp.flexible)
-    payload = {"structure": s.name, "robots": res.robots, "tip_deflection_mm": res.tip_deflection_mm,
+    cfg = Config(s, args.rows, args.over, args.void, args.phase)
+    try:
+        res = solve(cfg, inp.robot, inp.connectors, inp.flexible)
+    except SolverFailure as exc:  # valid input without a converged solution: say so, no traceback
+        print(f"warning: {s.name} at void width {args.void:g}: the static solve did not converge: {exc}",
+              file=sys.stderr)
+        emit(args, {"structure": s.name, "converged": False, "reason": str(exc)},
+             f"{cfg.describe(inp.robot.name)}: the static solve did not converge (no result)")
+        return 0
+    payload = {"structure": s.name, "converged": True, "robots": res.robots,
+               "tip_deflection_mm": res.tip_deflection_mm,
                "max_deflection_mm": res.max_deflection_m * 1e3,
                "tipping_factor": res.tipping_factor if res.tipping_factor != float("inf") else None,
                "joint_rotations_rad": res.joint_rotation_rad.tolist(),
@@ -257,10 +278,15 @@ def pipeline_stage(out: Path, ctx: dict) -> str:
 
     props = ctx.get("robot_properties")
     res = _run(out_dir(out), RunOptions(properties=str(props) if props else None), alternative=False)
-    ctx["limits"] = res["files"]["limits"]
+    _warn(res)
+    if "limits" in res["files"]:
+        ctx["limits"] = res["files"]["limits"]
     ctx["fem_dir"] = str(out)
     th = res["thresholds"]
     v = res["thesis_tapering_arches"]["verdict"]
     return (f"derived thresholds line {th['line']}, two_line {th['two_line']}, arch {th['arch']} "
             f"{th['arch_levels']} (thesis 5/10/15 [20, 25, 30]); widest void {res['max_span_widths']}; "
-            f"thesis tapering arches hold at {len(v['widths_passing'])} of {v['widths_evaluated']} band widths")
+            f"thesis tapering arches hold at {len(v['widths_passing'])} of {v['widths_evaluated']} band widths"
+            + ("" if "limits" in res["files"] else "; no structure crosses a 1-wide void: no limits.json")
+            + (f"; {len(res['not_converged'])} solves did not converge (see warnings)"
+               if res.get("not_converged") else ""))
