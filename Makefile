@@ -75,3 +75,10 @@ api-docs: $(STAMP)
 	rm -rf docs/api
 	$(BIN)/pdoc --docformat google --no-show-source -o docs/api voidcross.api swarm_sim.runner structure_fem.limits
 	@echo "wrote docs/api/index.html"
+
+# regenerate the docs' generated blocks (decision tables, structure_fem numbers) from the code;
+# the tests fail when they are stale
+.PHONY: docs
+docs: $(STAMP)
+	$(BIN)/python -m swarm_sim.decision_docs docs/swarm_sim.md
+	$(BIN)/python -m structure_fem.docs_blocks docs/structure_fem.md

@@ -1,0 +1,110 @@
+"""The numbers of ``docs/structure_fem.md``, generated from what the code computes.
+
+``python -m structure_fem.docs_blocks docs/structure_fem.md`` rewrites every block between
+``<!-- BEGIN generated NAME -->`` and ``<!-- END generated NAME -->`` (:data:`BLOCKS`):
+the derived thresholds beside the thesis's (from the packaged ``limits.json``, itself checked
+against a fresh derivation by the tests), the CuBot connector values of the packaged robot
+record, and the platform-bolt calibration family (computed, ~1 s). ``--check`` reports a
+stale file (exit 1); the tests run it, so the page cannot drift from the code.
+"""
+
+from __future__ import annotations
+
+import re
+import sys
+from pathlib import Path
+
+_BLOCK = re.compile(r"(<!-- BEGIN generated ([\w-]+) -->\n)(.*?)(<!-- END generated \2 -->)", re.S)
+
+
+def _thresholds() -> str:
+    from structure_fem.limits import load_limits, thesis_limits
+
+    d, t = load_limits("derived"), thesis_limits()
+    rows = ["| level | derived: void widths | derived: tip at widest (mm) | derived: tipping factor | "
+            "derived: complete structure (robots) | thesis: void widths | thesis: robots at widest |",
+            "|---|---|---|---|---|---|---|"]
+    for k in range(max(len(d.levels), len(t.levels))):
+        a = d.levels[k] if k < len(d.levels) else None
+        b = t.levels[k] if k < len(t.levels) else None
+        rows.append("| " + " | ".join([
+            f"{a.name if a else '-'} / {b.name if b else '-'}",
+            f"{a.min_span_widths}-{a.max_span_widths}" if a else "-",
+            f"{a.max_deflection_mm:.2f}" if a and a.max_deflection_mm is not None else "-",
+            f"{a.min_tipping_factor:.2f}" if a and a.min_tipping_factor is not None else "-",
+            f"{a.min_robots[-1]}" if a else "-",
+            f"{b.min_span_widths}-{b.max_span_widths}" if b else "-",
+            f"{b.min_robots[-1]}" if b else "-"]) + " |")
+    notes = getattr(d, "notes", "") or ""
+    return (f"Derived for `{d.robot}` at {d.clearance_mm:g} mm clearance: thresholds {d.thresholds()}, widest "
+            f"void {d.max_span_widths} widths; thesis: {t.thresholds()}, widest {t.max_span_widths}.\n\n"
+            + "\n".join(rows) + "\n" + (f"\nThe record's notes: {notes}\n" if notes else ""))
+
+
+def _connectors() -> str:
+    from cubot_cad.properties import RobotPropertiesFile, default_properties_path
+
+    rec = RobotPropertiesFile.load(default_properties_path())
+    rows = ["| robot | coupling | rotational stiffness (N m/rad) | axial stiffness (N/m) | play (mrad) |",
+            "|---|---|---|---|---|"]
+    for robot in rec.robots:
+        for c in robot.connectors:
+            rows.append(f"| {robot.name} | {c.kind} | {c.rotational_stiffness_nm_per_rad:.4g} | "
+                        f"{c.axial_stiffness_n_per_m:.3g} | {1000 * c.backlash_rad:.2f} |")
+    src = {r.source for r in rec.robots}
+    return ("From the packaged record `cubot_cad/data/robot_properties.json` (source: "
+            + "; ".join(sorted(src)) + "):\n\n" + "\n".join(rows) + "\n")
+
+
+def _calibration() -> str:
+    from cubot_cad.properties import RobotPropertiesFile, default_properties_path
+    from structure_fem.calibration import calibrate
+
+    cal = calibrate(RobotPropertiesFile.load(default_properties_path()), None).to_dict()  # as `fem calibrate`
+    rows = ["| backlash (rad) | fitted stiffness (N m/rad) | tip 3 / 4 / 5 platforms (mm) |", "|---|---|---|"]
+    rows += [f"| {f['backlash_rad']:.2g} | {f['stiffness_nm_per_rad']:.4g} | {f['tip3_mm']:.2f} / "
+             f"{f['tip4_mm']:.2f} / {f['tip5_mm']:.2f} |" for f in cal["family"]]
+    return ("\n".join(rows) + "\n\n"
+            f"Chosen point (`--calibration-backlash` picks another): b = {cal['bolt_backlash_rad']:g} rad, "
+            f"k = {cal['bolt_stiffness_nm_per_rad']:.4g} N m/rad. The platform record's own estimate is "
+            f"{cal['bolt_stiffness_estimate_nm_per_rad']:.4g} N m/rad, so the fit is "
+            f"{cal['fitted_over_estimate']:.3g} times that.\n")
+
+
+BLOCKS = {"thresholds": _thresholds, "connectors": _connectors, "calibration": _calibration}
+
+
+def render(text: str) -> str:
+    cache: dict = {}
+
+    def sub(m):
+        name = m.group(2)
+        if name not in BLOCKS:
+            raise KeyError(f"unknown generated block {name!r} (known: {', '.join(BLOCKS)})")
+        if name not in cache:
+            cache[name] = BLOCKS[name]()
+        return m.group(1) + cache[name] + m.group(4)
+
+    return _BLOCK.sub(sub, text)
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = list(sys.argv[1:] if argv is None else argv)
+    check = "--check" in args
+    paths = [a for a in args if a != "--check"] or ["docs/structure_fem.md"]
+    stale = []
+    for p in map(Path, paths):
+        old = p.read_text()
+        new = render(old)
+        if new != old:
+            stale.append(str(p))
+            if not check:
+                p.write_text(new)
+    if check and stale:
+        print("out of date (run python -m structure_fem.docs_blocks): " + ", ".join(stale))
+        return 1
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
