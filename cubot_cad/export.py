@@ -9,6 +9,8 @@ Layout under the output directory::
     <robot>/<part>.stl            binary STL, mm, oriented flat (z >= 0)
     <robot>/<part>.3mf            with --format 3mf
     <robot>.step                  STEP assembly (printed parts + stand-ins for bought parts)
+    <robot>.glb                   GLB (binary glTF 2.0, metres, +Y up) of the assembled robot
+    bridge-cubot-line.glb         GLB of five docked CuBots spanning a void (with cubot and glb)
 
 Nothing is written unless everything is: every input (robots, formats, material,
 clearance, and the docked pairs when given: interference and designed gap) is
@@ -39,7 +41,8 @@ from .jsonrecord import read_json, write_json_atomic
 from .part import BED_MM, DEFAULT_CLEARANCE_MM, check_clearance, material
 
 ROBOT_NAMES = ("cubot", "octbot", "cube-robot", "platform")
-FORMATS = ("stl", "step", "3mf")
+FORMATS = ("stl", "step", "3mf", "glb")
+DEFAULT_FORMATS = ("stl", "step", "glb")
 MANIFEST_SCHEMA = 1
 #: Tessellation of exported meshes (mm, rad).
 STL_TOLERANCE_MM = 0.02
@@ -230,6 +233,7 @@ class ExportResult:
     seconds: float
     manifest: Path
     properties: Path
+    glb_files: list[str] = field(default_factory=list)
 
 
 def export_robots(robots: Iterable[str], out: str | os.PathLike, formats: Iterable[str] = ("stl", "step"),
@@ -260,7 +264,8 @@ def export_robots(robots: Iterable[str], out: str | os.PathLike, formats: Iterab
     with staged_output(out) as stage:
         res = _write_export(stage, models, formats, material_name, mat, clearance_mm, progress, gaps, pairs)
     return ExportResult(out, material_name, clearance_mm, res["parts"], res["robots"], res["step_files"],
-                        time.perf_counter() - t0, out / "manifest.json", out / "robot_properties.json")
+                        time.perf_counter() - t0, out / "manifest.json", out / "robot_properties.json",
+                        res["glb_files"])
 
 
 def _write_export(out: Path, models: dict, formats: tuple, material_name: str, mat: dict, clearance_mm: float,
@@ -305,6 +310,9 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
             assy = r.assembly()
             _atomic_via(out / rel, lambda p, a=assy: a.export(p, exportType="STEP"))
             step_files.append(rel)
+    glb_files, models_summary = [], []
+    if "glb" in formats:  # after the STLs: the GLB meshes are made on copies, at their own tolerance
+        glb_files, models_summary = _write_glbs(out, models, clearance_mm, pairs)
     from .properties import RobotPropertiesFile
 
     source = (f"cubot_cad CAD export (material {material_name.upper()}, clearance {clearance_mm:g} mm): "
@@ -323,6 +331,7 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
             "title": r.title, "envelope_mm": list(r.envelope_mm), "printed_mass_g": round(mp.printed_mass_kg * 1e3, 3),
             "total_mass_g": round(mp.mass_kg * 1e3, 3), "com_mm": [round(c * 1e3, 3) for c in mp.com_m],
             "step": f"{name}.step" if "step" in formats else None,
+            "glb": f"{name}.glb" if "glb" in formats else None,
             "printable_parts": sum(q for _, q in r.printable_parts()),
             "components": __import__("cubot_cad.components", fromlist=["component_table"]).component_table(
                 r.components()),
@@ -333,10 +342,42 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
         "stl_tolerance_mm": STL_TOLERANCE_MM, "robots": robots_summary,
         "parts": [vars(p) for p in records],
     }
+    if "glb" in formats:
+        from .gltf import GLB_ANGULAR_RAD, GLB_TOLERANCE_MM
+
+        manifest["glb"] = {"units": "m, +Y up (glTF): CAD (x, y, z) mm -> (x, z, -y) / 1000",
+                           "tolerance_mm": GLB_TOLERANCE_MM, "angular_rad": GLB_ANGULAR_RAD,
+                           "files": glb_files, "models": models_summary}
     if pairs is not None:
         manifest["docked_pairs"] = [p.summary() for p in pairs]
     write_json_atomic(out / "manifest.json", manifest)
-    return {"parts": records, "robots": robots_summary, "step_files": step_files}
+    return {"parts": records, "robots": robots_summary, "step_files": step_files, "glb_files": glb_files}
+
+
+def _write_glbs(out: Path, models: dict, clearance_mm: float, pairs) -> tuple[list[str], list[dict]]:
+    """``<robot>.glb`` per robot and, with the CuBot, ``bridge-cubot-line.glb`` placed by the
+    measured ``cubot-front-rear`` pair (docked now if the export was given no pairs)."""
+    from .gltf import BRIDGE_NAME, bridge_assembly, robot_glb_assembly, write_glb
+
+    files, summary = [], []
+    for name, r in models.items():
+        rel = f"{name}.glb"
+        assy = robot_glb_assembly(r)
+        _atomic_via(out / rel, lambda p, a=assy: write_glb(a, p))
+        files.append(rel)
+        summary.append({"file": rel, "robot": name, "what": f"{r.title} assembled, bought parts as stand-ins"})
+    if "cubot" in models:
+        from .docking import dock
+
+        pair = next((p for p in pairs or [] if p.name == "cubot-front-rear"), None) or \
+            dock("cubot-front-rear", clearance_mm)
+        assy, lay = bridge_assembly(models["cubot"], pair)
+        rel = f"{BRIDGE_NAME}.glb"
+        _atomic_via(out / rel, lambda p, a=assy: write_glb(a, p))
+        files.append(rel)
+        summary.append({"file": rel, "robot": "cubot", "what": f"{len(lay.offsets_mm)} CuBots docked front to "
+                        "rear across a void between two ground slabs", **lay.summary()})
+    return files, summary
 
 
 def _with_gaps(robot, material_name: str, source: str, gaps: dict[str, float]):

@@ -12,8 +12,10 @@ PRINTED = (0.86, 0.86, 0.80)
 SECOND = (0.55, 0.70, 0.90)
 
 
-def _tris(shape, tol: float = 0.3):
-    verts, tris = shape.tessellate(tol, 0.5)
+def _tris(shape, tol: float = 0.3, angular: float = 0.5):
+    if isinstance(shape, np.ndarray):  # already triangles (n, 3, 3)
+        return shape
+    verts, tris = shape.tessellate(tol, angular)
     if not tris:
         return np.zeros((0, 3, 3))
     v = np.array([(p.x, p.y, p.z) for p in verts])
@@ -22,7 +24,8 @@ def _tris(shape, tol: float = 0.3):
 
 def render_shapes(groups, path: str | os.PathLike, title: str, elev: float = 22, azim: float = -58,
                   size_in: float = 6.0) -> Path:
-    """``groups``: list of (shapes, rgb). Writes a PNG atomically and returns its path."""
+    """``groups``: list of (shapes, rgb); a shape may also be an (n, 3, 3) array of triangles.
+    Writes a PNG atomically and returns its path."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -86,3 +89,28 @@ def render_robot(robot, path) -> Path:
 def render_pair(pair, path) -> Path:
     title = f"{pair.name}: gap {pair.gap_mm:.2f} mm, interference {pair.interference_mm3:.3f} mm^3"
     return render_shapes([(pair.shapes_a, PRINTED), (pair.shapes_b, SECOND)], path, title)
+
+
+#: Printed parts shown in the bridge render (the others are inside the bodies).
+BRIDGE_RENDER_ROLES = ("body", "cover", "rail", "pin", "blade", "cross_key")
+
+
+def render_bridge(robot, pair, path) -> Path:
+    """The bridge of :mod:`cubot_cad.gltf` (five docked CuBots across a void between two slabs).
+    One robot is tessellated once (coarse: a 1 rad angular step) and its triangles translated."""
+    from .gltf import SLAB_COLOUR, bridge_layout
+    from .shapes import box
+
+    lay = bridge_layout(robot, pair)
+    printed = [_tris(p.shape.copy(False), 0.5, 1.0) for p in robot.build_placed(blades_locked=True)
+               if p.role in BRIDGE_RENDER_ROLES]
+    comps = [_tris(s, 0.5, 1.0) for c in robot.components() if c.role in ("wheel", "caster") for s in c.solids()]
+    printed, comps = np.concatenate(printed), np.concatenate(comps)
+    groups = []
+    for i, o in enumerate(lay.offsets_mm):
+        groups.append(([printed + np.asarray(o)], PRINTED if i % 2 == 0 else SECOND))
+        groups.append(([comps + np.asarray(o)], (0.25, 0.25, 0.25)))
+    groups.append(([box(*s) for s in lay.slabs_mm], SLAB_COLOUR))
+    title = (f"bridge: {len(lay.offsets_mm)} CuBots docked front to rear (pitch {lay.pitch_mm:.1f} mm) "
+             f"across a {lay.void_mm:.0f} mm void")
+    return render_shapes(groups, path, title, elev=18, azim=-70, size_in=8.0)

@@ -21,6 +21,21 @@ import numpy as np
 from .components import Component
 from .part import Part, material
 
+#: Colour (rgb 0-1) of the printed parts by :attr:`Placed.role` (a ``_side`` suffix is ignored), so
+#: the connectors stand out from the grey body in the STEP assemblies and GLB models.
+ROLE_COLOURS: dict[str, tuple[float, float, float]] = {
+    "body": (0.85, 0.85, 0.80), "structure": (0.85, 0.85, 0.80), "cover": (0.72, 0.76, 0.82),
+    "pin": (0.95, 0.42, 0.08), "pinset": (0.98, 0.68, 0.30),
+    "blade": (0.10, 0.40, 0.85), "latchset": (0.45, 0.65, 0.95),
+    "rail": (0.20, 0.65, 0.35), "cross_key": (0.60, 0.30, 0.75), "locking_key": (0.85, 0.30, 0.60),
+    "caster_seat": (0.55, 0.55, 0.50),
+    "ring": (0.95, 0.42, 0.08), "housing": (0.10, 0.40, 0.85), "finger": (0.90, 0.75, 0.10),
+}
+
+
+def role_colour(role: str) -> tuple[float, float, float]:
+    return ROLE_COLOURS.get(role.removesuffix("_side"), ROLE_COLOURS["body"])
+
 
 @dataclass(frozen=True)
 class Placed:
@@ -168,15 +183,25 @@ class Robot:
             connectors=tuple(self.connector_properties(mat["youngs_modulus_pa"])),
             source=source)
 
-    def assembly(self, include_components: bool = True, name: str | None = None):
-        """A cq.Assembly of the robot (printed parts grey, stand-ins coloured)."""
+    def assembly(self, include_components: bool = True, name: str | None = None, placed: list | None = None,
+                 fresh: bool = False):
+        """A cq.Assembly of the robot: printed parts coloured by role (:data:`ROLE_COLOURS`: body
+        grey, pins orange, latches blue, rails green, keys purple, ...), stand-ins in their own colours.
+
+        ``placed`` replaces :attr:`placed` (e.g. ``build_placed(blades_locked=True)``); ``fresh``
+        copies every solid without its triangulation, so a mesh written from the assembly (GLB)
+        is made at the writer's tolerance and not at whatever finer one the shapes already carry."""
         import cadquery as cq
 
         assy = cq.Assembly(name=name or self.name)
         seen: dict[str, int] = {}
-        for p in self.placed:
+        copies: dict = {}  # one copy per distinct part: its instances share one mesh
+        for p in (self.placed if placed is None else placed):
             k = seen[p.part.name] = seen.get(p.part.name, 0) + 1
-            assy.add(p.part.solid, name=f"{p.part.name}_{k}", loc=p.loc, color=cq.Color(0.85, 0.85, 0.8))
+            solid = p.part.solid
+            if fresh:
+                solid = copies[p.part] if p.part in copies else copies.setdefault(p.part, solid.copy(False))
+            assy.add(solid, name=f"{p.part.name}_{k}", loc=p.loc, color=cq.Color(*role_colour(p.role)))
         if include_components:
             for comp in self.components():
                 for i, s in enumerate(comp.solids()):

@@ -26,10 +26,10 @@ def pairs():
 
 @pytest.fixture(scope="session")
 def export_dir(tmp_path_factory, pairs):
-    """A fresh `cad export --robot all` (STL + STEP) with the docked pairs checked and their
-    measured gaps in the record, as the CLI does it."""
-    from cubot_cad.export import ROBOT_NAMES, export_robots
+    """A fresh `cad export --robot all` (STL + STEP + GLB, the CLI's default formats) with the
+    docked pairs checked and their measured gaps in the record, as the CLI does it."""
+    from cubot_cad.export import DEFAULT_FORMATS, ROBOT_NAMES, export_robots
 
     out = tmp_path_factory.mktemp("exports")
-    export_robots(ROBOT_NAMES, out, ("stl", "step"), "abs", 0.2, pairs=list(pairs.values()))
+    export_robots(ROBOT_NAMES, out, DEFAULT_FORMATS, "abs", 0.2, pairs=list(pairs.values()))
     return out

@@ -62,6 +62,15 @@ def test_pipeline_stage_sets_the_context(tmp_path, pairs):
     assert RobotPropertiesFile.load(ctx["robot_properties"]).get("cubot").mass_kg > 0.2
     assert ctx["cad_dir"] == str(tmp_path / "cad")
     assert (tmp_path / "cad" / "manifest.json").exists()
+    # what `make demo`'s report picks up from the cad dir: renders (PNG) and 3D models (GLB)
+    pngs = {p.name for p in (tmp_path / "cad").rglob("*.png")}
+    assert {"cubot.png", "bridge-cubot-line.png"} <= pngs
+    glbs = {p.name for p in (tmp_path / "cad").rglob("*.glb")}
+    assert glbs == {"cubot.glb", "octbot.glb", "cube-robot.glb", "platform.glb", "bridge-cubot-line.glb"}
+    for p in (tmp_path / "cad").rglob("*"):
+        if p.suffix in (".png", ".glb"):
+            assert p.read_bytes()[:4] == (b"\x89PNG" if p.suffix == ".png" else b"glTF"), p
+    assert "GLB" in line and "renders" in line
 
 
 # --- the clearance range on the command line -------------------------------------------------

@@ -1,7 +1,7 @@
 """`voidcross cad`: cubot_cad: parametric robots, printable exports, mass properties.
 
-Sub-commands: ``export`` (STL/STEP/3MF per part, manifest, robot_properties.json,
-docked pairs), ``dock`` (docked-pair gaps and interference), ``check``
+Sub-commands: ``export`` (STL/STEP/3MF per part, GLB per robot and of a CuBot bridge,
+manifest, robot_properties.json, docked pairs), ``dock`` (docked-pair gaps and interference), ``check``
 (printability of exported STLs), ``render`` (PNG of robots and docked pairs),
 ``bench`` (time of a full export in a fresh process). cadquery is imported
 only when a sub-command runs.
@@ -26,12 +26,12 @@ from cubot_cad.part import (
 from voidcross.output import emit, out_dir, progress
 
 EPILOG = """examples:
-  voidcross cad export                            all robots: STL + STEP + manifest into exports/
+  voidcross cad export                            all robots: STL + STEP + GLB + manifest into exports/
   voidcross cad export --robot cubot --format stl,step,3mf --material pla --out /tmp/cubot
   voidcross cad export --clearance-mm 0.3         looser fit for a worn printer
   voidcross cad dock --json                       docked gaps and interference of every coupling
   voidcross cad check exports/                    watertight, manifold, bed, thinnest wall, slicing
-  voidcross cad render --out /tmp/img --docs      PNGs of robots and docked pairs (+ docs/img)
+  voidcross cad render --out /tmp/img --docs      PNGs of robots, docked pairs, CuBot bridge (+ docs/img)
   voidcross cad bench                             time `cad export --robot all` incl. import (goal 60 s)
 """
 
@@ -88,7 +88,7 @@ def do_export(out: Path, robots, formats, material: str, clearance: float, with_
             k: {kk: v[kk] for kk in ("printed_mass_g", "total_mass_g", "com_mm", "envelope_mm")}
             for k, v in res.robots.items()},
         "docked_pairs": summary, "manifest": str(res.manifest), "robot_properties": str(res.properties),
-        "step": res.step_files, "seconds": round(time.perf_counter() - t0, 2),
+        "step": res.step_files, "glb": res.glb_files, "seconds": round(time.perf_counter() - t0, 2),
     }
     if packaged_default:
         from cubot_cad.properties import RobotPropertiesFile, default_properties_path
@@ -117,6 +117,8 @@ def run_export(args) -> int:
                      f"COM {r['com_mm']} mm")
     for p in payload["docked_pairs"]:
         lines.append(f"  {p['pair']}: gap {p['gap_mm']:.2f} mm, interference {p['interference_mm3']:.3f} mm^3")
+    if payload["glb"]:
+        lines.append(f"  3D models (GLB, m): {', '.join(payload['glb'])}")
     lines.append(f"  manifest: {payload['manifest']}\n  properties: {payload['robot_properties']}")
     if "packaged_default" in payload:
         lines.append(f"  packaged default updated: {payload['packaged_default']}")
@@ -210,7 +212,7 @@ def run_render(args) -> int:
     from cubot_cad.docking import dock, pairs_for
     from cubot_cad.export import make_robot, parse_robots
     from cubot_cad.part import check_clearance
-    from cubot_cad.render import render_pair, render_robot
+    from cubot_cad.render import render_bridge, render_pair, render_robot
 
     robots = parse_robots(args.robot)
     check_clearance(args.clearance_mm, "--clearance-mm")
@@ -218,10 +220,17 @@ def run_render(args) -> int:
     targets = [d] + ([Path("docs/img")] if args.docs else [])
     written = []
     jobs = [("robot", r) for r in robots] + ([("pair", p) for p in pairs_for(robots)] if not args.no_pairs else [])
+    if "cubot" in robots and not args.no_pairs:
+        from cubot_cad.gltf import BRIDGE_NAME
+
+        jobs.append(("bridge", BRIDGE_NAME))
     for kind, name in progress(jobs, "render", len(jobs)):
         for t in targets:
             if kind == "robot":
                 written.append(str(render_robot(make_robot(name, args.clearance_mm), t / f"{name}.png")))
+            elif kind == "bridge":
+                written.append(str(render_bridge(make_robot("cubot", args.clearance_mm),
+                                                 dock("cubot-front-rear", args.clearance_mm), t / f"{name}.png")))
             else:
                 written.append(str(render_pair(dock(name, args.clearance_mm), t / f"{name}.png")))
     emit(args, {"files": written}, "\n".join(written))
@@ -250,6 +259,26 @@ def run_bench(args) -> int:
     return 0
 
 
+#: Robots the pipeline's cad stage renders (plus the bridge); each render takes a few seconds.
+PIPELINE_RENDERS = ("cubot", "octbot", "cube-robot", "platform")
+
+
+def pipeline_renders(out: Path, clearance: float = 0.2, robots=PIPELINE_RENDERS) -> list[str]:
+    """PNGs of the robots and of the CuBot bridge into ``out/img`` (the `cad render` code path)."""
+    from cubot_cad.docking import dock
+    from cubot_cad.export import make_robot
+    from cubot_cad.render import render_bridge, render_robot
+
+    img = Path(out) / "img"
+    written = [str(render_robot(make_robot(name, clearance), img / f"{name}.png")) for name in robots]
+    if "cubot" in robots:
+        from cubot_cad.gltf import BRIDGE_NAME
+
+        written.append(str(render_bridge(make_robot("cubot", clearance), dock("cubot-front-rear", clearance),
+                                         img / f"{BRIDGE_NAME}.png")))
+    return written
+
+
 def pipeline_stage(out: Path, ctx: dict) -> str:
     from voidcross.pipeline import StageUnavailable
 
@@ -260,17 +289,19 @@ def pipeline_stage(out: Path, ctx: dict) -> str:
     except ImportError as exc:
         raise StageUnavailable(f"cadquery/trimesh/manifold3d not installed ({exc.name}); "
                                "using the packaged robot_properties.json") from None
-    from cubot_cad.export import ROBOT_NAMES
+    from cubot_cad.export import DEFAULT_FORMATS, ROBOT_NAMES
 
     out = Path(out)
-    payload = do_export(out, ROBOT_NAMES, ("stl", "step"), "abs", 0.2)
+    payload = do_export(out, ROBOT_NAMES, DEFAULT_FORMATS, "abs", 0.2)
+    pngs = pipeline_renders(out, 0.2)
     ctx["robot_properties"] = payload["robot_properties"]
     ctx["cad_dir"] = str(out)
     cub = payload["robots"]["cubot"]
     gaps = ", ".join(f"{p['pair']} {p['gap_mm']:.1f} mm" for p in payload["docked_pairs"]
                      if p["pair"] in ("cubot-front-rear", "cube-robot-front-rear", "octbot-ring"))
     return (f"{payload['parts']} printable parts of {len(ROBOT_NAMES)} robots, CuBot {cub['total_mass_g']:.0f} g "
-            f"(printed {cub['printed_mass_g']:.0f} g); docked gaps {gaps}; {out}/robot_properties.json")
+            f"(printed {cub['printed_mass_g']:.0f} g); docked gaps {gaps}; {len(payload['glb'])} GLB models, "
+            f"{len(pngs)} renders; {out}/robot_properties.json")
 
 
 def register(sub, common) -> None:
@@ -292,7 +323,9 @@ def register(sub, common) -> None:
                         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     add_common(e)
     e.add_argument("--out", default=DEFAULT_OUT, help=f"output directory (default {DEFAULT_OUT}/)")
-    e.add_argument("--format", default="stl,step", help="comma list of stl, step, 3mf (default stl,step)")
+    e.add_argument("--format", default="stl,step,glb",
+                   help="comma list of stl, step, 3mf, glb (default stl,step,glb; glb: one model per robot "
+                        "and, with the cubot, bridge-cubot-line.glb)")
     e.add_argument("--material", default="abs", help="abs (1.04 g/cm^3, default) or pla (1.24 g/cm^3)")
     e.add_argument("--no-dock", action="store_true",
                    help="skip the docked pairs (connector gaps then come from the connector geometry alone)")

@@ -211,12 +211,15 @@ cvs.forEach(function(cv){
   renderer.setPixelRatio(window.devicePixelRatio||1); renderer.setSize(cv.clientWidth||800, cv.clientHeight||420, false);
   var scene=new THREE.Scene(); scene.background=new THREE.Color(0xf4f6f8);
   var cam=new THREE.PerspectiveCamera(35,(cv.clientWidth||800)/(cv.clientHeight||420),0.1,1e6);
-  scene.add(new THREE.HemisphereLight(0xffffff,0x667788,0.9)); var dl=new THREE.DirectionalLight(0xffffff,0.8);
+  scene.add(new THREE.HemisphereLight(0xffffff,0x667788,1.0)); scene.add(new THREE.AmbientLight(0xffffff,0.35));
+  var dl=new THREE.DirectionalLight(0xffffff,0.9);
   dl.position.set(1,2,3); scene.add(dl);
   var ctl=new THREE.OrbitControls(cam,cv); ctl.addEventListener("change",function(){renderer.render(scene,cam)});
   var b64=document.getElementById(cv.dataset.glb).textContent.trim(), bin=atob(b64), buf=new Uint8Array(bin.length);
   for(var i=0;i<bin.length;i++) buf[i]=bin.charCodeAt(i);
   new THREE.GLTFLoader().parse(buf.buffer,"",function(g){
+    // CAD colours are plain paints: no metal (a metallic PBR surface renders black without an environment map)
+    g.scene.traverse(function(o){if(o.material){[].concat(o.material).forEach(function(m){if("metalness" in m){m.metalness=0; m.roughness=0.75;}})}});
     scene.add(g.scene); var box=new THREE.Box3().setFromObject(g.scene), c=box.getCenter(new THREE.Vector3()),
     r=box.getSize(new THREE.Vector3()).length()||1;
     cam.position.set(c.x+0.9*r,c.y+0.6*r,c.z+0.9*r); cam.near=r/1000; cam.far=r*100; cam.updateProjectionMatrix();
