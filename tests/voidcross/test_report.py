@@ -326,7 +326,9 @@ def test_the_report_plays_a_run_and_draws_the_3d_model_in_headless_chromium(smal
 
     cad = tmp_path / "cad"
     cad.mkdir()
-    trimesh.creation.box((120, 120, 100)).export(cad / "cubot.glb")
+    box = trimesh.creation.box((120, 120, 100))
+    box.visual.face_colors = [200, 60, 40, 255]  # a painted part, as the CAD's GLBs have
+    box.export(cad / "cubot.glb")
     out = tmp_path / "r"
     build_report(small_db, out, cad_dir=cad, limits="thesis",
                  watch={"preset": "case-d", "robots": 5, "void_width": 1, "seed": 1, "limits": "thesis"})
