@@ -117,3 +117,61 @@ def parse_set(items: list[str] | None, option: str = "--set") -> dict:
         except json.JSONDecodeError:
             out[k.strip()] = v
     return out
+
+
+#: bounds "in user terms" shared by the commands (a typo like ``--runs 1000000000000`` is refused
+#: at once, naming the limit, instead of queueing years of work or overflowing a seed)
+MAX_RUNS = 1_000_000
+MAX_WORKERS = 256
+SEED_LIMIT = 2**63  # seeds are non-negative and < 2**63 (numpy's SeedSequence and SQLite's INTEGER)
+MAX_SIM_TIME_S = 1_000_000.0  # simulated seconds of one run (the presets' guards are <= 50,000 s)
+MAX_ROBOTS = 100_000
+
+
+def check_int(value: int | None, option: str, lo: int | None = None, hi: int | None = None,
+              what: str = "") -> int | None:
+    """``value`` must be an integer in ``lo..hi`` (None: no bound, and None passes); else an
+    InputError naming the option, the value and the limit."""
+    from cubot_cad.errors import InputError
+
+    if value is None:
+        return None
+    what = f" ({what})" if what else ""
+    if lo is not None and value < lo:
+        raise InputError(f"{option} {value}: must be >= {lo}{what}")
+    if hi is not None and value > hi:
+        raise InputError(f"{option} {value}: must be <= {hi:,}{what}")
+    return value
+
+
+def check_seed(seed: int | None, option: str = "--seed", count: int = 1) -> int | None:
+    """A first seed: >= 0 and, with ``count`` consecutive seeds, the last below 2**63."""
+    from cubot_cad.errors import InputError
+
+    if seed is None:
+        return None
+    if seed < 0:
+        raise InputError(f"{option} {seed}: must be a non-negative integer")
+    if seed + max(count, 1) - 1 >= SEED_LIMIT:
+        more = f" (with {count:,} consecutive seeds, the last must be)" if count > 1 else ""
+        raise InputError(f"{option} {seed}: must be < 2**63{more}")
+    return seed
+
+
+def check_float(value: float | None, option: str, lo: float | None = None, hi: float | None = None,
+                lo_open: bool = True, what: str = "") -> float | None:
+    """``value`` must be a finite number in (lo, hi] (``lo_open=False``: [lo, hi]); None passes."""
+    import math
+
+    from cubot_cad.errors import InputError
+
+    if value is None:
+        return None
+    what = f" ({what})" if what else ""
+    if not math.isfinite(value):
+        raise InputError(f"{option} {value}: must be a finite number{what}")
+    if lo is not None and (value <= lo if lo_open else value < lo):
+        raise InputError(f"{option} {value:g}: must be {'>' if lo_open else '>='} {lo:g}{what}")
+    if hi is not None and value > hi:
+        raise InputError(f"{option} {value:g}: must be <= {hi:,g}{what}")
+    return value

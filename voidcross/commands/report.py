@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..output import emit, out_dir
+from ..output import MAX_ROBOTS, SEED_LIMIT, emit, out_dir
 
 EPILOG = """examples:
   voidcross report --db results/case-d.sqlite
@@ -22,11 +22,29 @@ outputs when their directories are given. A section without data says so.
 
 
 def run(args: argparse.Namespace) -> int:
+    from swarm_sim.errors import InputError
+
     from ..report import build_report
 
     out_dir(args.out, "--out", create=False)  # before reading anything
+    watch = parse_watch(args.watch)
+    for opt, d in (("--fem-dir", args.fem_dir), ("--cad-dir", args.cad_dir)):
+        if d is not None and not Path(d).is_dir():
+            raise InputError(f"{opt} {d}: " + ("is a file, not a directory" if Path(d).exists()
+                                               else "no such directory"))
+    if args.limits is not None:  # an explicit --limits that cannot be read is bad input, not a note
+        from structure_fem.limits import load_limits
+
+        load_limits(args.limits)
+    if isinstance(watch, dict):  # the simulator's own checks of the run to play back (preset, limits, sizes)
+        from swarm_sim.runner import resolve_params
+
+        try:
+            resolve_params(watch["preset"], watch["robots"], watch["void_width"], watch["limits"])
+        except InputError as exc:
+            raise InputError(f"--watch {args.watch!r}: {exc}") from None
     res = build_report(args.db, args.out, fem_dir=args.fem_dir, cad_dir=args.cad_dir, limits=args.limits,
-                       watch=parse_watch(args.watch))
+                       watch=watch)
     emit(args, res, f"report at {res['html']} (Markdown: {res['markdown']}; {res['figures']} figures, "
                     f"{res['runs']} runs, {res['no_data_notes']} sections without data)")
     return 0
@@ -49,6 +67,8 @@ def parse_watch(text: str | None):
         raise InputError(f"--watch {text!r}: ROBOTS, WIDTH and SEED must be integers") from None
     if robots < 1 or width < 1 or seed < 0:
         raise InputError(f"--watch {text!r}: ROBOTS and WIDTH must be >= 1 and SEED >= 0")
+    if robots > MAX_ROBOTS or seed >= SEED_LIMIT:
+        raise InputError(f"--watch {text!r}: ROBOTS must be <= {MAX_ROBOTS:,} and SEED < 2**63")
     return {"preset": parts[0], "robots": robots, "void_width": width, "seed": seed,
             "limits": parts[4] if len(parts) == 5 else "derived"}
 

@@ -17,7 +17,7 @@ import argparse
 import sys
 import time
 
-from ..output import emit, out_dir
+from ..output import MAX_RUNS, MAX_WORKERS, check_int, check_seed, emit, out_dir
 
 EPILOG = """examples:
   voidcross reproduce --chapter 4 --runs 2 --out results/reproduce      a quick look (~470 runs)
@@ -72,21 +72,31 @@ def _selected(chapter: str, cases: str | None) -> list[tuple]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from swarm_sim.errors import InputError
     from swarm_sim.sweeps import ResultStore, SweepSpec, prepare_sweep
 
     from .sweep import execute_plan
 
-    if args.runs is not None and args.runs < 1:
-        raise InputError(f"--runs {args.runs}: must be >= 1")
+    check_int(args.runs, "--runs", 1, MAX_RUNS, "runs per cell")
+    check_int(args.workers, "--workers", 1, MAX_WORKERS, "worker processes")
     exps = _selected(args.chapter, args.cases)
+    check_seed(args.seed, "--seed", max(args.runs or runs for *_, runs in exps))
+    out_dir(args.out, "--out", create=False)  # checked, created only once every input is known good
+    specs = [SweepSpec(preset, tuple(robots), tuple(widths), runs=args.runs or runs, limits=args.limits,
+                       seed0=args.seed) for _, _, preset, robots, widths, runs in exps]
+    from swarm_sim.sweeps.executors import resolve_run_fn
+    from swarm_sim.sweeps.sweep import limits_digest, preflight
+
+    if args.run_fn is None:  # the simulator's own checks of every point (limits, presets, sizes)
+        for spec in specs:
+            preflight(spec)
+    else:
+        resolve_run_fn(args.run_fn)
+        limits_digest(args.limits)
     out = out_dir(args.out, "--out")
     db = out / "reproduce.sqlite"
     t0 = time.perf_counter()
     interrupted = False
-    for chapter, case, preset, robots, widths, runs in exps:
-        spec = SweepSpec(preset, tuple(robots), tuple(widths), runs=args.runs or runs, limits=args.limits,
-                         seed0=args.seed)
+    for (chapter, case, *_), spec in zip(exps, specs, strict=True):
         plan = prepare_sweep(spec, db, resume=True, run_fn=args.run_fn)
         s = execute_plan(plan, "local", args.workers, None,
                          desc=f"Ch. {chapter} case {case} ({plan.summary.already_stored} stored)")

@@ -10,7 +10,24 @@ import tempfile
 from pathlib import Path
 
 from swarm_sim.errors import InputError
-from voidcross.output import emit, out_dir, out_file, parse_set, progress
+from voidcross.output import (
+    MAX_ROBOTS,
+    MAX_RUNS,
+    MAX_SIM_TIME_S,
+    MAX_WORKERS,
+    check_float,
+    check_int,
+    check_seed,
+    emit,
+    out_dir,
+    out_file,
+    parse_set,
+    progress,
+)
+
+#: sim bench: the largest swarm and the most steps one call times (user terms: memory, minutes)
+MAX_BENCH_ROBOTS = 1_000_000
+MAX_BENCH_STEPS = 1_000_000
 
 RUN_EPILOG = """examples:
   voidcross sim run --preset case-d --robots 9 --void-width 3 --seed 1 --json
@@ -71,14 +88,12 @@ def _under(out: Path, name: str) -> Path:
 def run(args: argparse.Namespace) -> int:
     from swarm_sim.runner import resolve_params, simulate
 
-    if args.robots is not None and args.robots < 1:
-        raise InputError(f"--robots {args.robots}: must be >= 1")
-    if args.void_width is not None and args.void_width < 1:
-        raise InputError(f"--void-width {args.void_width}: must be >= 1 (robot widths)")
+    check_int(args.robots, "--robots", 1, MAX_ROBOTS, "robots in the swarm")
+    check_int(args.void_width, "--void-width", 1, None, "robot widths")
     if args.video and Path(args.video).suffix.lower() not in (".mp4", ".gif"):
         raise InputError(f"--video {args.video}: use a .mp4 or .gif file name")
-    if args.seed < 0:
-        raise InputError(f"--seed {args.seed}: must be a non-negative integer")
+    check_seed(args.seed)
+    check_float(args.max_time, "--max-time", 0.0, MAX_SIM_TIME_S, what="simulated seconds")
     if not (math.isfinite(args.frame_every) and args.frame_every > 0):
         raise InputError(f"--frame-every {args.frame_every}: must be a positive number of simulated seconds")
     overrides = parse_set(args.set)
@@ -90,6 +105,9 @@ def run(args: argparse.Namespace) -> int:
     p = resolve_params(args.preset, robots, width, args.limits, args.max_time, **overrides)
     if args.frame_every < p.dt_s:
         raise InputError(f"--frame-every {args.frame_every}: shorter than one step ({p.dt_s:g} s)")
+    if args.frame_every > p.max_time_s:
+        raise InputError(f"--frame-every {args.frame_every:g}: longer than the run's time limit "
+                         f"({p.max_time_s:g} simulated s): no frame after the first")
     # every output path is checked before the run (one error line, exit 2, nothing computed)
     base = Path(args.out or "results/sim")
     video = _under(base, args.video) if args.video else None
@@ -161,6 +179,12 @@ def soak(args: argparse.Namespace) -> int:
     from swarm_sim.soak import LIMITS
     from swarm_sim.soak import soak as do_soak
 
+    check_int(args.runs, "--runs", 1, MAX_RUNS, "randomised runs")
+    check_int(args.workers, "--workers", 1, MAX_WORKERS, "worker processes")
+    check_seed(args.seed)
+    check_float(args.max_time, "--max-time", 0.0, MAX_SIM_TIME_S, what="simulated seconds")
+    if args.journal is not None:  # before the draws: a journal that cannot be written is refused now
+        out_file(args.journal, "--journal")
     limits = LIMITS if args.limits == "both" else (args.limits,)
     rep = do_soak(args.runs, seed=args.seed, max_time_s=args.max_time, limits=limits, workers=args.workers,
                   progress=lambda it, n: progress(it, "soak", n), journal=args.journal)
@@ -184,6 +208,7 @@ def bench(args: argparse.Namespace) -> int:
     if args.workload == "thesis":
         from swarm_sim.bench import workload_bench
 
+        check_int(args.seeds, "--seeds", 1, 1000, "seeds per case")
         rep = workload_bench(args.seeds, use_numba=False if args.no_numba else None,
                              progress=lambda it, n: progress(it, "thesis workload", n))
         lines = [f"thesis workload: {rep['runs']} whole runs, {rep['cpu_s_per_run']:.2f} CPU s per run, "
@@ -195,6 +220,8 @@ def bench(args: argparse.Namespace) -> int:
         emit(args, rep, "\n".join(lines))
         return 0
 
+    check_int(args.robots, "--robots", 2, MAX_BENCH_ROBOTS, "exploring robots")
+    check_int(args.steps, "--steps", 1, MAX_BENCH_STEPS, "simulation steps")
     scaling = () if args.no_scaling else (1_000, 3_000, 10_000, 30_000, 100_000)
     rep = do_bench(args.robots, args.steps, scaling=scaling, use_numba=False if args.no_numba else None,
                    progress=lambda it, n: progress(it, "scaling", n))

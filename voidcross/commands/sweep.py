@@ -14,7 +14,25 @@ import time
 from concurrent.futures import BrokenExecutor
 from pathlib import Path
 
-from ..output import emit, out_file, parse_set, progress
+from ..output import (
+    MAX_ROBOTS,
+    MAX_RUNS,
+    MAX_SIM_TIME_S,
+    MAX_WORKERS,
+    check_float,
+    check_int,
+    check_seed,
+    emit,
+    out_file,
+    parse_set,
+    progress,
+)
+
+#: runs handed to a worker per task (the executors' own bound)
+MAX_BATCH = 10_000
+#: sweep bench: timed runs per configuration and interleaved rounds
+MAX_BENCH_RUNS = 10_000
+MAX_BENCH_REPEAT = 100
 
 EPILOG = """examples:
   voidcross sweep --preset case-d --robots 3-18,20,25,30,40,50 --void-width 1-5 --runs 30 \\
@@ -44,10 +62,24 @@ def build_spec(args):
     for opt in ("preset", "robots", "void_width"):
         if getattr(args, opt) is None:
             raise InputError(f"--{opt.replace('_', '-')} is required to run a sweep (see voidcross sweep --help)")
+    check_run_options(args)
     robots = parse_int_range(args.robots, "--robots")
     widths = parse_int_range(args.void_width, "--void-width")
+    if robots[-1] > MAX_ROBOTS:
+        raise InputError(f"--robots {args.robots}: {robots[-1]} must be <= {MAX_ROBOTS:,} (robots in the swarm)")
+    if args.db is not None:  # a database path that cannot be a file is refused before any run
+        out_file(args.db, "--db")
     return SweepSpec(args.preset, robots, widths, runs=args.runs, limits=args.limits, seed0=args.seed,
                      max_time_s=args.max_time_s, overrides=parse_set(args.set))
+
+
+def check_run_options(args) -> None:
+    """Bounds, in user terms, of the options every sweep-running command shares (before any work)."""
+    check_int(args.runs, "--runs", 1, MAX_RUNS, "seeded runs per point")
+    check_seed(args.seed, "--seed", args.runs or 1)
+    check_int(args.workers, "--workers", 1, MAX_WORKERS, "worker processes")
+    check_int(getattr(args, "batch", None), "--batch", 1, MAX_BATCH, "runs per worker task")
+    check_float(getattr(args, "max_time_s", None), "--max-time-s", 0.0, MAX_SIM_TIME_S, what="simulated seconds")
 
 
 def execute_plan(plan, executor, workers, address, desc: str, batch: int | None = None):
@@ -152,6 +184,15 @@ def run_status(args: argparse.Namespace) -> int:
 def run_bench(args: argparse.Namespace) -> int:
     from swarm_sim.sweeps.bench import bench
 
+    check_int(args.robots, "--robots", 1, MAX_ROBOTS, "robots in the swarm")
+    check_int(args.void_width, "--void-width", 1, None, "robot widths")
+    check_int(args.runs, "--runs", 1, MAX_BENCH_RUNS, "timed runs per configuration")
+    check_int(args.repeat, "--repeat", 1, MAX_BENCH_REPEAT, "interleaved rounds")
+    check_float(args.max_time_s, "--max-time-s", 0.0, MAX_SIM_TIME_S, what="simulated seconds")
+    if args.run_fn == "swarm_sim.sweeps.sweep:simulate":  # the simulator's own checks, before any timing
+        from swarm_sim.runner import resolve_params
+
+        resolve_params(args.preset, args.robots, args.void_width, args.limits, args.max_time_s)
     echo = (lambda s: None) if args.json else (lambda s: print(s, file=sys.stderr))
     res = bench(args.preset, args.robots, args.void_width, runs=args.runs, limits=args.limits,
                 run_fn=args.run_fn, max_time_s=args.max_time_s, dask=not args.no_dask, repeat=args.repeat,
@@ -171,18 +212,6 @@ def run_bench(args: argparse.Namespace) -> int:
     return 0
 
 
-def _positive_int(text: str) -> int:
-    from swarm_sim.errors import InputError
-
-    try:
-        v = int(text)
-    except ValueError:
-        raise InputError(f"{text!r}: expected an integer") from None
-    if v < 1:
-        raise InputError(f"{text!r}: must be >= 1")
-    return v
-
-
 def register(sub, common) -> None:
     fmt = argparse.RawDescriptionHelpFormatter
     p = sub.add_parser("sweep", parents=[common], formatter_class=fmt, epilog=EPILOG,
@@ -198,8 +227,8 @@ def register(sub, common) -> None:
     p.add_argument("--limits", default="derived", help="derived (default), thesis, or a limits.json path")
     p.add_argument("--executor", choices=("local", "dask"), default="local")
     p.add_argument("--address", help="Dask scheduler, e.g. tcp://HOST:8786 (default: a local cluster)")
-    p.add_argument("--workers", type=_positive_int, help="worker processes (default: CPU count)")
-    p.add_argument("--batch", type=_positive_int, default=None,
+    p.add_argument("--workers", type=int, help="worker processes (default: CPU count)")
+    p.add_argument("--batch", type=int, default=None,
                    help="runs handed to a worker per task (default 4: one round trip per batch; Ctrl-C "
                         "loses at most the unfinished batches)")
     p.add_argument("--resume", action="store_true", help="complete the sweep already in --db")
@@ -239,7 +268,7 @@ def register(sub, common) -> None:
     b.add_argument("--limits", dest="limits", default="derived")
     b.add_argument("--max-time-s", dest="max_time_s", type=float, default=None)
     b.add_argument("--run-fn", dest="run_fn", default="swarm_sim.sweeps.sweep:simulate")
-    b.add_argument("--repeat", dest="repeat", type=_positive_int, default=1,
+    b.add_argument("--repeat", dest="repeat", type=int, default=1,
                    help="interleaved rounds; each configuration reports its best (default 1)")
     b.add_argument("--no-dask", dest="no_dask", action="store_true", help="skip the Dask configuration")
     b.set_defaults(func=run_bench)
