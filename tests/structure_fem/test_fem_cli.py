@@ -87,8 +87,8 @@ def test_caster_clearance_is_the_strict_alternative(cli, tmp_path):
 
 
 @pytest.mark.parametrize("argv,word", [
-    (("fem", "table", "--stiffness-scale", "0"), "stiffness scale"),
-    (("fem", "table", "--mass-scale", "-1"), "mass scale"),
+    (("fem", "table", "--stiffness-scale", "0"), "--stiffness-scale 0"),
+    (("fem", "table", "--mass-scale", "-1"), "--mass-scale -1"),
     (("fem", "table", "--clearance-mm", "-3"), "clearance"),
     (("fem", "solve", "--rows", "5", "--over", "2", "--void", "-2"), "void width"),
     (("fem", "solve", "--rows", "0", "--over", "0", "--void", "2"), "rows"),

@@ -74,7 +74,7 @@ SPELLINGS = {HUGE_FLOAT: (HUGE_FLOAT, "1e+12", "1000000000000"), "-1.5": ("-1.5"
 
 
 # ----------------------------------------------------------------------------------------- cad
-# (voidcross/commands/cad.py and cubot_cad/ are being edited elsewhere: failing cells are xfail)
+# (a cell that fails is a bug to fix, never an xfail to keep)
 CAD_EXPORT = "cad export --robot cubot --no-dock"
 cell("cad-export-out-readonly", f"{CAD_EXPORT} --out {{ro}}", ("--out",))
 cell("cad-export-out-file", f"{CAD_EXPORT} --out {{f}}", ("--out",))
@@ -98,7 +98,7 @@ cell("cad-render-robot-unknown", "cad render --robot nosuchbot --out out", ("nos
 numeric("cad-render", "cad render --robot cubot --no-pairs --out out", "--clearance-mm", FLOAT_KINDS)
 
 # ----------------------------------------------------------------------------------------- fem
-# (voidcross/commands/fem.py and structure_fem/ are being edited elsewhere: failing cells are xfail)
+# (every fem cell is refused before any solve)
 cell("fem-table-out-readonly", "fem table --out {ro}", ("--out",))
 cell("fem-table-out-file", "fem table --out {f}", ("--out",))
 cell("fem-table-docs-readonly", "fem table --out out --docs {ro}", ("--docs",))
@@ -259,33 +259,7 @@ cell("doctor-option-unknown", "doctor --frobnicate", ("--frobnicate",))
 
 
 # ------------------------------------------------------------------------------------- harness
-XFAIL_CAD = "voidcross/commands/cad.py (edited elsewhere): "
-XFAIL_FEM = "voidcross/commands/fem.py (edited elsewhere): "
-_SLOW = "runs the whole computation instead of refusing the value (no upper bound): "
-XFAIL: dict[str, str] = {
-    "cad-check-samples-huge": XFAIL_CAD + "--samples has no upper bound (only >= 100): 1e12 is not refused by "
-    "itself (here the empty directory is reported instead; on real exports it would sample 1e12 points); "
-    "fix: run_check refuses --samples > 1,000,000 naming the limit",
-    "fem-table-stiffness-scale-huge": XFAIL_FEM + _SLOW + "fix: bound --stiffness-scale (e.g. 1e-3..1e3) "
-    "before run_table",
-    "fem-table-mass-scale-huge": XFAIL_FEM + _SLOW + "fix: bound --mass-scale (e.g. 1e-3..1e3) before run_table",
-    "fem-table-backlash-scale-huge": XFAIL_FEM + "refused, but the line names a derived value ('front_rear backlash "
-    "5405405405.4 rad is not a small angle') and neither --backlash-scale nor 1e12; fix: bound --backlash-scale "
-    "in the CLI (or prefix the error with the option and value)",
-    "fem-table-tipping-huge": XFAIL_FEM + _SLOW + "fix: bound --tipping (e.g. <= 100) before run_table",
-    "fem-table-clearance-mm-huge": XFAIL_FEM + _SLOW + "fix: bound --clearance-mm (e.g. < the robot's height, "
-    "or the cad range 0.1-0.5 mm family) before run_table",
-    "fem-solve-rows-huge": XFAIL_FEM + "--rows 1e12 builds/solves a 1e12-row model (no upper bound); fix: "
-    "refuse --rows above a bound (e.g. 1000) in run_solve before make_inputs",
-    "fem-solve-void-huge": XFAIL_FEM + "--void 1e12 is accepted: exit 0 (no upper bound); fix: refuse --void "
-    "above --max-width (30 robot widths) in run_solve",
-    "fem-calibrate-robot-unknown": XFAIL_FEM + "--robot nosuchbot is accepted: exit 0 (calibrate never looks the "
-    "robot up); fix: in run_calibrate look the robot up in the properties file (or drop --robot there)",
-    "fem-bench-out-readonly": XFAIL_FEM + "--out is only used after 20 solves and the whole table (~60 s); fix: "
-    "out_dir(args.out, '--out', create=False) first in run_bench",
-    "fem-bench-out-file": XFAIL_FEM + "--out is only used after 20 solves and the whole table (~60 s); fix: "
-    "out_dir(args.out, '--out', create=False) first in run_bench",
-}
+XFAIL: dict[str, str] = {}  # every cell meets the contract (the fem and cad cells were fixed)
 
 
 def _params():

@@ -161,6 +161,9 @@ def run_check(args) -> int:
 
     if args.samples < 100:
         raise InputError(f"--samples {args.samples} is too few for the thin-wall probe (>= 100)")
+    if args.samples > 1_000_000:
+        raise InputError(f"--samples {args.samples} is more than the thin-wall probe needs (<= 1,000,000; "
+                         "each sample costs memory)")
     root = Path(args.dir)
     files = stl_files(root)
     do_slice = not args.no_slice

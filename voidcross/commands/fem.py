@@ -53,8 +53,20 @@ def _add_inputs(p: argparse.ArgumentParser) -> None:
                    help="backlash of the platform bolt for the calibration fit (default 0: stiffness only)")
 
 
+#: user-term bounds of the study's scale options (checked before any solve)
+SCALE_BOUNDS = {"--stiffness-scale": (0.0, 1e3, True), "--backlash-scale": (0.0, 100.0, False),
+                "--mass-scale": (0.0, 100.0, True), "--tipping": (0.0, 100.0, True)}
+MAX_CLEARANCE_MM = 100.0  # more than a robot's height (CuBot 85 mm): not a climb the model describes
+
+
 def _opts(args):
     from structure_fem.runs import RunOptions
+    from voidcross.output import check_float
+
+    for opt, (lo, hi, lo_open) in SCALE_BOUNDS.items():
+        check_float(getattr(args, opt[2:].replace("-", "_")), opt, lo, hi, lo_open=lo_open)
+    check_float(args.clearance_mm, "--clearance-mm", 0.0, MAX_CLEARANCE_MM,
+                what="a climb clearance above the robots' height is outside the model")
 
     return RunOptions(properties=args.properties, robot=args.robot, clearance_mm=args.clearance_mm,
                       caster=args.caster, connectors=args.connectors, stiffness_scale=args.stiffness_scale,
@@ -129,7 +141,10 @@ def run_calibrate(args) -> int:
     from structure_fem.calibration import calibrate
     from structure_fem.runs import load_file
 
-    cal = calibrate(load_file(_opts(args)), args.calibration_backlash).to_dict()
+    props = load_file(_opts(args))
+    if props is not None:
+        props.get(args.robot)  # an unknown --robot is an input error here too (InputError naming it)
+    cal = calibrate(props, args.calibration_backlash).to_dict()
     human = (f"platform bolt: {cal['bolt_stiffness_nm_per_rad']:.4g} N m/rad at {cal['bolt_backlash_rad']:g} rad "
              f"backlash (record's estimate {cal['bolt_stiffness_estimate_nm_per_rad']:g}); predicted tips mm "
              f"{cal['predicted_tip_mm']}\nfamily (backlash rad -> stiffness, tips 3/4/5 mm):\n"
@@ -153,6 +168,9 @@ def _structure(args):
     return Structure("arch", args.lines, args.layers, args.arrangement)
 
 
+MAX_SOLVE_ROWS = 1000  # a structure of more rows is far past the widest void (30 widths)
+
+
 def run_solve(args) -> int:
     from structure_fem.errors import SolverFailure
     from structure_fem.model import Config, solve
@@ -162,6 +180,12 @@ def run_solve(args) -> int:
         if Path(args.plot).suffix.lower() not in (".png", ".svg", ".pdf"):
             raise InputError(f"--plot {args.plot}: use a .png, .svg or .pdf file name")
         out_file(args.plot, "--plot")
+    from voidcross.output import check_float, check_int
+
+    check_int(args.rows, "--rows", 1, MAX_SOLVE_ROWS)
+    check_float(args.void, "--void", 0.0, float(args.max_width), lo_open=False,
+                what="void width in robot widths, at most --max-width")
+    check_float(args.over, "--over", 0.0, float(args.rows), lo_open=False, what="rows past the near edge")
     inp, _ = make_inputs(_opts(args))
     s = _structure(args)
     cfg = Config(s, args.rows, args.over, args.void, args.phase)
@@ -198,6 +222,7 @@ def run_bench(args) -> int:
     from structure_fem.structures import Structure
     from structure_fem.study import StudyInputs
 
+    out_dir(args.out, "--out", create=False)  # before a minute of solving
     robot = default_properties().get("cubot")
     inp = StudyInputs.for_robot(robot)
     cfg = Config(Structure("line"), 15, 5, 5)
