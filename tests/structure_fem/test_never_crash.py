@@ -266,8 +266,8 @@ def test_smoothing_continuation_does_not_change_a_converged_solution(cubot, stru
 @pytest.mark.parametrize("argv,word", [
     (("--clearance-mm", "-3"), "clearance"),
     (("--clearance-mm", "0"), "clearance"),
-    (("--mass-scale", "0"), "mass scale"),
-    (("--backlash-scale", "-1"), "backlash scale"),
+    (("--mass-scale", "0"), "--mass-scale 0"),
+    (("--backlash-scale", "-1"), "--backlash-scale -1"),
 ])
 def test_invalid_input_is_one_error_line_exit_2(cli, tmp_path, command, argv, word):
     res = cli("fem", command, *argv, "--out", str(tmp_path / "out"))
