@@ -27,7 +27,6 @@ if HAVE_NUMBA:
 from .params import Params
 from .world import World, wrap
 
-
 AVOIDING = -1.0  # run_left_cm marker: the robot turned away from a hazard on its last step
 
 

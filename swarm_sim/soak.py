@@ -140,7 +140,7 @@ def soak(runs: int, seed: int = 0, max_time_s: float | None = None, limits: str 
                     "skipped_invalid": 0, "hand_overs": 0, "end_reasons": {}, "by_preset": {},
                     "violations": [], "timeout_draws": [], "error_draws": [], "simulated_s": 0.0}
     header = {"soak": 1, "runs": runs, "seed": seed, "limits": list(lims), "max_time_s": max_time_s}
-    done, earlier_wall = _read_journal(Path(journal), header) if journal is not None else ({}, 0.0)
+    done, earlier_wall, codes = _read_journal(Path(journal), header) if journal is not None else ({}, 0.0, [])
     outs = dict(done)
     todo = [i for i in range(runs) if i not in done]
     args = [(i, draws[i], max_time_s) for i in todo]
@@ -152,7 +152,7 @@ def soak(runs: int, seed: int = 0, max_time_s: float | None = None, limits: str 
             raise InputError(f"--journal {journal}: cannot append ({exc.strerror})") from None
         if not done and Path(journal).stat().st_size == 0:
             _append(fh, header)
-        _append(fh, {"session": time.time(), "resumed": len(done)})
+        _append(fh, {"session": time.time(), "resumed": len(done), "code": code_version()})
     if workers == 1 or len(todo) <= 1:
         results: Iterable = map(_star, args)
         pool = None
@@ -174,6 +174,8 @@ def soak(runs: int, seed: int = 0, max_time_s: float | None = None, limits: str 
     report["wall_s"] = round(time.perf_counter() - t0, 2)
     report["wall_s_total"] = round(earlier_wall + report["wall_s"], 2)
     report["resumed_runs"] = len(done)
+    # a resumed soak may span code changes: say which code ran its draws (one figure, one code)
+    report["code_versions"] = sorted(set(codes) | {code_version()})
     for i in sorted(outs):  # in draw order, whatever order the workers finished in
         _tally(report, draws[i], outs[i])
     report["simulated_s"] = round(report["simulated_s"], 2)
@@ -185,12 +187,12 @@ def _append(fh, rec: dict) -> None:
     fh.flush()
 
 
-def _read_journal(path: Path, header: dict) -> tuple[dict[int, dict], float]:
+def _read_journal(path: Path, header: dict) -> tuple[dict[int, dict], float, list[str]]:
     """The finished draws of an earlier session (index -> outcome) and its wall time; an
     absent or empty file is a fresh start. A journal of another soak is refused, a torn last
     line (the process was killed mid-write) is ignored, any other bad line is an error."""
     if not path.exists() or path.stat().st_size == 0:
-        return {}, 0.0
+        return {}, 0.0, []
     if path.is_dir():
         raise InputError(f"--journal {path} is a directory")
     text = path.read_text(encoding="utf-8")
@@ -215,15 +217,40 @@ def _read_journal(path: Path, header: dict) -> tuple[dict[int, dict], float]:
         os.truncate(path, len(text.encode("utf-8")) - torn)
     done: dict[int, dict] = {}
     wall, session_wall = 0.0, 0.0
+    codes: list[str] = []
     for r in recs[1:]:
         if "session" in r:
             wall, session_wall = wall + session_wall, 0.0
+            codes.append(str(r.get("code", "unknown")))
         elif isinstance(r.get("i"), int) and 0 <= r["i"] < header["runs"] and isinstance(r.get("out"), dict):
             done[r["i"]] = r["out"]
             session_wall = max(session_wall, float(r.get("wall_s", 0.0)))
         else:
             raise InputError(f"--journal {path}: a record is not a finished draw: {str(r)[:80]}")
-    return done, wall + session_wall
+    return done, wall + session_wall, codes
+
+
+def code_version() -> str:
+    """The git commit of the simulator's source tree (``+dirty`` with local changes), else
+    the package version: what a soak journal records per session."""
+    import subprocess
+
+    root = Path(__file__).resolve().parent.parent
+    try:
+        rev = subprocess.run(["git", "-C", str(root), "rev-parse", "--short=12", "HEAD"], capture_output=True,
+                             text=True, timeout=5)
+        if rev.returncode == 0:
+            dirty = subprocess.run(["git", "-C", str(root), "status", "--porcelain", "--", "swarm_sim"],
+                                   capture_output=True, text=True, timeout=5).stdout.strip()
+            return rev.stdout.strip() + ("+dirty" if dirty else "")
+    except (OSError, subprocess.SubprocessError):
+        pass
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return "voidcross " + version("voidcross")
+    except PackageNotFoundError:
+        return "unknown"
 
 
 def _tally(report: dict, d: dict, out: dict) -> None:

@@ -71,7 +71,7 @@ DEFAULT_BATCH = 4
 
 def _batches(keys: Iterable[dict], size: int) -> Iterator[list[dict]]:
     it = iter(keys)
-    while batch := [k for _, k in zip(range(size), it)]:
+    while batch := [k for _, k in zip(range(size), it, strict=False)]:
         yield batch
 
 

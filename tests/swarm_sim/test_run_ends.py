@@ -301,7 +301,7 @@ def test_the_walk_is_the_same_with_and_without_numba_through_avoidance_turns():
                                            world, p, rng, use_numba=use)
             kept += int((before & (run_left == AVOIDING)).sum())
         runs.append((x, y, h, goal, run_left, kept))
-    for a, b in zip(runs[0][:5], runs[1][:5]):
+    for a, b in zip(runs[0][:5], runs[1][:5], strict=True):
         np.testing.assert_allclose(a, b, atol=1e-9)
     assert runs[0][5] == runs[1][5] > 0  # the kept turns happened, the same in both back-ends
 
@@ -350,3 +350,18 @@ def test_a_journal_that_is_not_a_soaks_is_refused_and_left_alone(tmp_path):
     with pytest.raises(InputError, match="not a soak journal"):
         soak(2, seed=3, max_time_s=5.0, journal=f)
     assert f.read_text() == "a,b\n1,2"
+
+
+def test_a_journal_records_which_code_ran_each_session(tmp_path):
+    import json
+
+    from swarm_sim.soak import code_version
+
+    j = tmp_path / "s.jsonl"
+    rep = soak(2, seed=5, max_time_s=5.0, journal=j)
+    sessions = [json.loads(line) for line in j.read_text().splitlines() if '"session"' in line]
+    assert sessions and sessions[0]["code"] == code_version() and rep["code_versions"] == [code_version()]
+    with open(j, "a") as fh:  # a session of other code before: both named
+        fh.write(json.dumps({"session": 1.0, "resumed": 2, "code": "0123abcd"}) + "\n")
+    again = soak(2, seed=5, max_time_s=5.0, journal=j)
+    assert again["code_versions"] == sorted({"0123abcd", code_version()})

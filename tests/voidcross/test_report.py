@@ -305,9 +305,9 @@ def test_figures_are_150_dpi_with_integer_ticks_on_counted_axes(report):
     import matplotlib
 
     matplotlib.use("Agg")
-    from voidcross.report import figures as F
-
     import matplotlib.pyplot as plt
+
+    from voidcross.report import figures as F
 
     fig, ax = plt.subplots()
     ax.plot([3, 4], [0, 1])

@@ -192,6 +192,8 @@ def soak(args: argparse.Namespace) -> int:
     reasons = ", ".join(f"{k} {v}" for k, v in sorted(rep["end_reasons"].items())) or "none"
     resumed = f" ({rep['resumed_runs']} from the journal, {rep['wall_s_total']:.0f} s wall in all)" \
         if rep["resumed_runs"] else ""
+    if len(rep.get("code_versions", ())) > 1:
+        resumed += f" [the journal's draws ran on {len(rep['code_versions'])} code versions: {rep['code_versions']}]"
     human = (f"{rep['runs']} randomised whole runs (limits {', '.join(rep['limits'])}; {guard}) in "
              f"{rep['wall_s']:.0f} s wall{resumed}: {rep['timeouts']} timeouts, {rep['n_violations']} invariant violations, "
              f"{rep['robots_lost']} robots lost, {rep['errors']} runs raised, {rep['skipped_invalid']} draws "

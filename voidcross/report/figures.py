@@ -14,7 +14,6 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 
 from .data import Run, by_point, grid, metric_values, summary  # noqa: E402
