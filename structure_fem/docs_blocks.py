@@ -88,22 +88,29 @@ def render(text: str) -> str:
     return _BLOCK.sub(sub, text)
 
 
-def main(argv: list[str] | None = None) -> int:
+def rewrite(argv: list[str] | None, render_fn, default: str, hint: str) -> int:
+    """The command line of a docs generator: rewrite each path's generated blocks with
+    ``render_fn``; ``--check`` only reports stale files (exit 1). Shared by
+    :mod:`swarm_sim.decision_docs`."""
     args = list(sys.argv[1:] if argv is None else argv)
     check = "--check" in args
-    paths = [a for a in args if a != "--check"] or ["docs/structure_fem.md"]
+    paths = [a for a in args if a != "--check"] or [default]
     stale = []
     for p in map(Path, paths):
         old = p.read_text()
-        new = render(old)
+        new = render_fn(old)
         if new != old:
             stale.append(str(p))
             if not check:
                 p.write_text(new)
     if check and stale:
-        print("out of date (run python -m structure_fem.docs_blocks): " + ", ".join(stale))
+        print(f"out of date (run {hint}): " + ", ".join(stale))
         return 1
     return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    return rewrite(argv, render, "docs/structure_fem.md", "python -m structure_fem.docs_blocks")
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import re
 import sys
-from pathlib import Path
 
 from . import structure as S
 from . import taper as T
@@ -41,21 +40,9 @@ def render(text: str) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = list(sys.argv[1:] if argv is None else argv)
-    check = "--check" in args
-    paths = [a for a in args if a != "--check"] or ["docs/swarm_sim.md"]
-    stale = []
-    for p in map(Path, paths):
-        old = p.read_text()
-        new = render(old)
-        if new != old:
-            stale.append(str(p))
-            if not check:
-                p.write_text(new)
-    if check and stale:
-        print("out of date (run python -m swarm_sim.decision_docs): " + ", ".join(stale))
-        return 1
-    return 0
+    from structure_fem.docs_blocks import rewrite
+
+    return rewrite(argv, render, "docs/swarm_sim.md", "python -m swarm_sim.decision_docs")
 
 
 if __name__ == "__main__":  # pragma: no cover
