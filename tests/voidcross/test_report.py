@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 import shutil
 import sqlite3
+import statistics
 import subprocess
 import tempfile
 from html.parser import HTMLParser
@@ -137,11 +138,13 @@ def test_ours_beside_thesis_is_computed_from_the_db(report, report_db):
     out, _ = report
     html = (out / "index.html").read_text()
     con = sqlite3.connect(report_db)
-    mean_ta = con.execute("SELECT AVG(t_a) FROM runs WHERE preset='case-a' AND robots=5 AND void_width=1 "
-                          "AND status='ok'").fetchone()[0]
+    ta = [r[0] for r in con.execute("SELECT t_a FROM runs WHERE preset='case-a' AND robots=5 AND void_width=1 "
+                                     "AND status='ok'")]
     con.close()
+    mean, sd = statistics.mean(ta), statistics.stdev(ta)
     cell = _cell(html, "Thesis Table 4.4", "12 cm (1)", 0)
-    assert cell == f"{mean_ta:.0f} / 54"
+    star = "*" if abs(mean - 54) > sd else ""
+    assert cell == f"{mean:.0f} ±{sd:.0f} / 54 (×{mean / 54:.2f}){star}"
     # Table 4.5: the thesis prints '-' where case A crossed
     assert _cell(html, "Thesis Table 4.5", "12 cm (1)", 3).endswith("/ –")
 
@@ -155,7 +158,7 @@ def test_report_moves_when_the_data_moves(small_db, tmp_path):
     con.close()
     build_report(db, tmp_path / "r")
     html = (tmp_path / "r" / "index.html").read_text()
-    first = int(_cell(html, "Thesis Table 4.4", "12 cm (1)", 0).split(" / ")[0])
+    first = int(_cell(html, "Thesis Table 4.4", "12 cm (1)", 0).split(" / ")[0].split(" ±")[0])
     assert first > 1000
 
 
@@ -377,3 +380,40 @@ def test_a_bad_watch_run_is_one_line_exit_2(cli, small_db, tmp_path, watch, need
     res = cli("report", "--db", str(small_db), "--out", str(tmp_path / "r"), "--watch", watch)
     assert res.code == 2 and needle in res.error_lines[0] and len(res.error_lines) == 1
     assert not (tmp_path / "r").exists()
+
+
+def test_the_deviation_from_the_thesis_is_judged_against_our_spread():
+    """Cell by cell: ratio ours / thesis, and inside our spread iff |ours - thesis| <= sd."""
+    from voidcross.report.compare import compare_table, table_summary
+    from voidcross.report.data import Run
+
+    t = next(t for t in thesis_tables() if t.number == "4.6")  # case A, Tt; N=8, 2 widths: 133 s
+    assert t.values[(8, 2)] == 133
+
+    def run(tt, seed):
+        return Run("case-a", 8, 2, seed, "thesis", True, False, 0, {"Tt": tt}, None, None, None, False)
+
+    close = compare_table(t, [run(120.0, 1), run(140.0, 2)])  # mean 130, sd 14.1: 133 inside
+    far = compare_table(t, [run(97.0, 1), run(99.0, 2)])      # mean 98, sd 1.4: 133 outside, faster
+    one = compare_table(t, [run(98.0, 1)])                    # one run: spread unknown, not judged
+    c_close, c_far, c_one = ((c for c in cells if (c.robots, c.void_width) == (8, 2)).__next__()
+                             for cells in (close, far, one))
+    assert c_close.inside is True and abs(c_close.ratio - 130 / 133) < 1e-12
+    assert c_far.inside is False and abs(c_far.ratio - 98 / 133) < 1e-12
+    assert c_one.inside is None and c_one.ours_sd_s is None
+    s = table_summary(far)
+    assert (s["compared"], s["judged"], s["inside_spread"], s["faster_outside"], s["slower_outside"]) == (1, 1, 0, 1, 0)
+
+
+def test_the_report_summarises_the_deviation_per_table_with_a_ratio_map(report):
+    out, res = report
+    by = {t["table"]: t for t in res["thesis_tables"]}
+    assert set(by) == {"4.4", "4.5", "4.6", "4.7", "4.8", "4.9"}
+    assert by["4.4"]["compared"] > 0 and by["4.4"]["limits"] == "thesis"
+    assert by["4.7"]["compared"] == 0  # no case-b runs in the database
+    cells = res["thesis_cells"]["4.4"]
+    assert {"ratio", "inside", "ours_sd_s", "thesis_s"} <= set(cells[0])
+    assert (out / "figures" / "thesis_table_4_4_ratio.png").is_file()
+    assert (out / "figures" / "thesis_table_4_4_ratio.csv").is_file()
+    assert not (out / "figures" / "thesis_table_4_7_ratio.png").exists()
+    assert "how far ours is from the thesis" in (out / "report.md").read_text()

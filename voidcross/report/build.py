@@ -15,6 +15,7 @@ import time
 from pathlib import Path
 
 from . import figures as F
+from .compare import cell_text, compare_table, runs_for, table_summary
 from .data import RunSet, by_point, grid, load_runs, metric_values, summary
 from .document import Figure, MarkdownText, Note, Para, Raw, Section, Table, to_html, to_markdown
 from .thesis import thesis_tables
@@ -190,29 +191,47 @@ def _preset_section(preset: str, rs: RunSet, limits: dict, fig_dir: Path, rel: s
     return sec
 
 
-def _thesis_tables_section(rs: RunSet) -> Section:
+def _thesis_tables_section(rs: RunSet, fig_dir: Path, rel: str) -> tuple[Section, list[dict]]:
+    """Tables 4.4-4.9 cell by cell: ours (mean ±sd) / thesis (ours / thesis), a ratio map per
+    table and a summary of how far ours is from the thesis (:mod:`voidcross.report.compare`)."""
     sec = Section("Tables 4.4-4.9: the thesis beside ours")
-    sec.add(Para("Each cell: ours / thesis, mean seconds. The thesis's values are read from "
+    sec.add(Para("Each cell: ours ±sd / thesis (×ours/thesis), mean simulated seconds; `*`: the thesis's mean "
+                 "is outside our run-to-run spread (more than one sample standard deviation from our mean; cells "
+                 "with one run are not judged). The thesis's values are read from "
                  "`voidcross/report/thesis_data/*.csv` (one file per table, naming it); ours are recomputed "
-                 "from the database. Void widths in robot widths (12 cm robots in cases A and B)."))
+                 "from the database, from runs with the thesis's limits when there are any. Void widths in robot "
+                 "widths (12 cm robots in cases A and B)."))
     noted = set()
+    summaries, overview = [], []
     for t in thesis_tables():
-        runs = rs.of(t.preset)
-        pts = by_point(runs)
-        rows = []
-        for w in t.widths():
-            row = [f"{t.void_cm[w]} cm ({w})"]
-            for n in t.robots:
-                s = summary(metric_values(pts.get((n, w), []), t.metric))
-                row.append(f"{_fmt(s['mean']) if s else '–'} / {_fmt(t.values[(n, w)])}")
-            rows.append(row)
-        sec.add(Table(["void \\ N"] + [str(n) for n in t.robots], rows, f"{t.title} [file {t.path.name}]"))
+        runs, used = runs_for(t, rs.runs)
+        cells = compare_table(t, runs)
+        summ = table_summary(cells)
+        summaries.append({"table": t.number, "preset": t.preset, "metric": t.metric, "limits": used, **summ,
+                          "cells_detail": [c.as_dict() for c in cells]})
+        overview.append([f"Table {t.number}", t.preset, t.metric, used, f"{summ['compared']}/{summ['cells']}",
+                         _fmt(summ["median_ratio"], 2),
+                         "–" if summ["min_ratio"] is None else f"{summ['min_ratio']:.2f}-{summ['max_ratio']:.2f}",
+                         f"{summ['inside_spread']}/{summ['judged']}",
+                         f"{summ['faster_outside']} / {summ['slower_outside']}"])
+        by = {(c.void_width, c.robots): c for c in cells}
+        rows = [[f"{t.void_cm[w]} cm ({w})"] + [cell_text(by[(w, n)]) for n in t.robots] for w in t.widths()]
+        sec.add(Table(["void \\ N"] + [str(n) for n in t.robots], rows,
+                      f"{t.title} [file {t.path.name}; ours: {used} limits]"))
+        if summ["compared"]:
+            name = f"thesis_table_{t.number.replace('.', '_')}_ratio.png"
+            if F.thesis_ratio(cells, fig_dir / name, f"Table {t.number} ({t.preset}, {t.metric}): ours / thesis"):
+                sec.add(Figure(f"{rel}/{name}", f"Table {t.number}: ours / thesis per cell (* outside our spread)"))
         if not runs and t.preset not in noted:
             noted.add(t.preset)
             sec.add(Note(f"no {t.preset} runs in this database, so only the thesis's values are filled "
-                         f"(`voidcross sweep --preset {t.preset} --robots {','.join(map(str, t.robots))} "
+                         f"(`voidcross reproduce --chapter 4 --cases {t.preset[-1].upper()}` runs the thesis's "
+                         f"grid, or `voidcross sweep --preset {t.preset} --robots {','.join(map(str, t.robots))} "
                          f"--void-width 1-5 --runs 5 --limits thesis --db ...`, 5 runs per cell as in the thesis)."))
-    return sec
+    sec.blocks.insert(1, Table(["table", "preset", "metric", "our limits", "cells compared", "median ours/thesis",
+                                "range", "thesis inside our spread", "outside: ours faster / slower"], overview,
+                               "how far ours is from the thesis, per table"))
+    return sec, summaries
 
 
 def swarm_reach(lim, robots: int, preset: str = "large-void") -> dict:
@@ -439,7 +458,8 @@ def build_report(db, out, fem_dir=None, cad_dir=None, limits=None, watch: dict |
     if not small:
         sections.append(Section("Small voids (cases A-D)").add(Note("no small-void runs in this database.")))
     sections += [_preset_section(p, rs, lims, fig_dir, rel) for p in small]
-    sections.append(_thesis_tables_section(rs))
+    thesis_sec, comparison = _thesis_tables_section(rs, fig_dir, rel)
+    sections.append(thesis_sec)
     sections.append(_large_void_section(rs, fig_dir, rel, lims))
     sections.append(_copy_assets(fem_dir, out, "fem", "structure_fem output",
                                  "Structure selection and deflection (structure_fem)"))
@@ -457,4 +477,6 @@ def build_report(db, out, fem_dir=None, cad_dir=None, limits=None, watch: dict |
     n_fig = sum(isinstance(b, Figure) for s in sections for b in s.blocks)
     n_empty = sum(isinstance(b, Note) for s in sections for b in s.blocks)
     return {"html": str(html_path), "markdown": str(md_path), "figures": n_fig, "no_data_notes": n_empty,
-            "runs": len(rs.runs), "raised": len(rs.errors), "presets": presets}
+            "runs": len(rs.runs), "raised": len(rs.errors), "presets": presets,
+            "thesis_tables": [{k: v for k, v in c.items() if k != "cells_detail"} for c in comparison],
+            "thesis_cells": {c["table"]: c["cells_detail"] for c in comparison}}

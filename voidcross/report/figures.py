@@ -7,6 +7,7 @@ Times are simulated seconds; positions centimetres; robot ids as the simulator n
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import matplotlib
@@ -293,3 +294,37 @@ def limits_plot(limits: dict, path: Path, max_width: int = 30, rule: dict | None
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3, which="both")
     _save(fig, path)
+
+
+def thesis_ratio(cells, path: Path, title: str) -> bool:
+    """Ours / thesis per cell of one thesis table (``cells``: :class:`compare.CellComparison`):
+    colour on a log scale from x0.5 (blue, ours faster) to x2 (red, ours slower), each cell
+    annotated with its ratio and ``*`` where the thesis's mean is outside our spread."""
+    robots = sorted({c.robots for c in cells})
+    widths = sorted({c.void_width for c in cells})
+    m = np.full((len(widths), len(robots)), np.nan)
+    for c in cells:
+        if c.ratio is not None and c.ratio > 0:
+            m[widths.index(c.void_width), robots.index(c.robots)] = math.log2(c.ratio)
+    fig, ax = _subplots(figsize=(2.8 + 0.75 * len(robots), 1.9 + 0.42 * len(widths)))
+    im = ax.imshow(m, origin="lower", aspect="auto", cmap="RdBu_r", vmin=-1, vmax=1)
+    for c in cells:
+        j, i = robots.index(c.robots), widths.index(c.void_width)
+        if c.ratio is not None:
+            ax.text(j, i, f"{c.ratio:.2f}{'*' if c.inside is False else ''}", ha="center", va="center", fontsize=8)
+        elif c.thesis_s is None and c.ours_mean_s is not None:
+            ax.text(j, i, "thesis –", ha="center", va="center", fontsize=6, color="0.4")
+    ax.set_xticks(range(len(robots)), [str(n) for n in robots])
+    ax.set_yticks(range(len(widths)), [str(w) for w in widths])
+    ax.set_xlabel("swarm size N")
+    ax.set_ylabel("void width (robot widths)")
+    ax.set_title(title, fontsize=9)
+    cb = fig.colorbar(im, ax=ax, fraction=0.05, ticks=[-1, 0, 1])
+    cb.ax.set_yticklabels(["×0.5", "×1", "×2"])
+    cb.set_label("ours / thesis")
+    _csv(path, ["table", "metric", "swarm_size", "void_width", "runs", "ours_mean_s", "ours_sd_s", "thesis_s",
+                "ratio", "inside_spread"],
+         [[c.table, c.metric, c.robots, c.void_width, c.n, c.ours_mean_s, c.ours_sd_s, c.thesis_s, c.ratio,
+           "" if c.inside is None else int(c.inside)] for c in cells])
+    _save(fig, path)
+    return bool(np.isfinite(m).any())
