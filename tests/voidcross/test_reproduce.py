@@ -11,8 +11,10 @@ SYNTH = "swarm_sim.sweeps.synthetic:synthetic_run"  # follows the 3w rule of cas
 
 
 def test_the_experiments_are_the_thesis_run_counts():
-    counts = {case: len(n) * len(w) * runs for _ch, case, _p, n, w, runs in EXPERIMENTS}
+    counts = {case: len(n) * len(w) * runs for _ch, case, _p, n, w, runs in EXPERIMENTS if n != "rule"}
     assert counts == {"A": 100, "B": 150, "C": 2400, "D": 3150, "large": 50}   # Ch. 4.7: 5,800 runs; Ch. 5.6: 50
+    taper = {case: w for _ch, case, _p, n, w, _r in EXPERIMENTS if n == "rule"}
+    assert taper == {"taper-15": (11, 15), "taper-30": (20, 25, 30)}          # each tapering level's widest void
     assert [thesis_boundary(c, 2) for c in "ABCD"] == [8, 6, 6, 6]
 
 
@@ -60,3 +62,39 @@ def test_reproduce_case_a_with_the_simulator(cli, tmp_path):
     a = res.json()["cases"]["A"]["by_width"]
     assert (a["1"]["observed"], a["2"]["observed"]) == (5, 8) and a["1"]["matches"] and a["2"]["matches"]
     assert a["3"]["observed"] is None    # 11 robots needed; the thesis's grid stops at 10
+
+
+def test_the_tapering_rows_run_at_the_swarm_the_rule_needs_for_the_chosen_limits(cli, tmp_path):
+    from swarm_sim.runner import resolve_params
+
+    out = tmp_path / "t"
+    res = cli("reproduce", "--chapter", "5", "--cases", "taper-15,taper-30", "--run-fn", SYNTH, "--out", str(out),
+              "--no-report", "--json")
+    assert res.code == 0, res.err
+    d = res.json()
+    rows = sqlite3.connect(out / "reproduce.sqlite").execute(
+        "SELECT preset, void_width, robots FROM runs ORDER BY void_width").fetchall()
+    want = [(p, w, resolve_params(p, 100, w, limits="thesis").min_robots_rule)
+            for p, w in (("large-void-15", 11), ("large-void-15", 15), ("large-void-30", 20),
+                         ("large-void-30", 25), ("large-void-30", 30))]
+    assert rows == want                        # computed from the rule, e.g. 200 at 15 widths, 470 at 30
+    assert d["cases"]["taper-30"]["by_width"]["30"]["thesis"] == want[-1][2]
+    assert d["skipped"] == []
+    # a width no structure of the derived record spans (it reaches 17 widths today) is skipped and said so
+    from swarm_sim.errors import InputError
+
+    def spans(p, w):
+        try:
+            resolve_params(p, 100, w, limits="derived")
+            return True
+        except InputError:
+            return False
+
+    rows_all = [("taper-15", "large-void-15", 11), ("taper-15", "large-void-15", 15), ("taper-30", "large-void-30", 20),
+                ("taper-30", "large-void-30", 25), ("taper-30", "large-void-30", 30)]
+    assert not spans("large-void-30", 30)      # so the skip is exercised whatever the record derives
+    der = cli("reproduce", "--chapter", "5", "--cases", "taper-15,taper-30", "--limits", "derived", "--run-fn", SYNTH,
+              "--out", str(tmp_path / "d"), "--no-report", "--json")
+    assert der.code == 0, der.err
+    assert [(s["case"], s["void_width"]) for s in der.json()["skipped"]] == [(c, w) for c, p, w in rows_all
+                                                                          if not spans(p, w)]

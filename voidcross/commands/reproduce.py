@@ -3,8 +3,10 @@ one SQLite file, then the report with ours beside the thesis's.
 
 The experiments are data (:data:`EXPERIMENTS`): Ch. 4.7's four cases (A: N in {5, 7, 8, 10};
 B: N in {3, 6, ..., 18}; C: N 3..18; D: N 3..18, 20, 25, 30, 40, 50; voids of 1..5 robot
-widths; 5, 5, 30 and 30 runs per cell) and Ch. 5.6's large void (70 robots, 6..10 widths,
-10 runs). ``--runs K`` shrinks every cell to K runs for a quick look. Each experiment is one
+widths; 5, 5, 30 and 30 runs per cell), Ch. 5.6's large void (70 robots, 6..10 widths,
+10 runs) and Ch. 5.5.2's tapering arches beyond 10 widths (:data:`TAPERING`: the widest void
+of each level, 11..30 widths, each with the swarm the counting rule needs there, one run per
+width; minutes per run). ``--runs K`` shrinks every cell to K runs for a quick look. Each experiment is one
 sweep in the database, so an interrupted reproduction resumes where it stopped.
 
 Default limits: the thesis's (``--limits thesis``), since this reproduces its experiments;
@@ -23,6 +25,7 @@ EPILOG = """examples:
   voidcross reproduce --chapter 4 --runs 2 --out results/reproduce      a quick look (~470 runs)
   voidcross reproduce --chapter all --workers 2 --out results/reproduce the thesis's run counts (~5,850 runs)
   voidcross reproduce --chapter 4 --cases A,B --json
+  voidcross reproduce --chapter 5 --cases taper-15,taper-30 the tapering arches, 11..30 widths (slow)
   voidcross reproduce --chapter 4 --limits derived --out results/reproduce-derived
 Re-running the same command resumes: runs already stored are not repeated. The report
 (OUT/report/index.html) has Tables 4.4-4.9 with ours beside the thesis's; --json prints,
@@ -36,11 +39,26 @@ EXPERIMENTS = (
     (4, "C", "case-c", tuple(range(3, 19)), (1, 2, 3, 4, 5), 30),
     (4, "D", "case-d", (*range(3, 19), 20, 25, 30, 40, 50), (1, 2, 3, 4, 5), 30),
     (5, "large", "large-void", (70,), (6, 7, 8, 9, 10), 10),
+    (5, "taper-15", "large-void-15", "rule", (11, 15), 1),
+    (5, "taper-30", "large-void-30", "rule", (20, 25, 30), 1),
 )
+#: the tapering rows (swarm size ``"rule"``: per width, the smallest swarm the counting rule
+#: of the chosen limits admits, ``resolve_params(...).min_robots_rule``, computed, not listed)
+TAPERING = tuple(e[1] for e in EXPERIMENTS if e[3] == "rule")
 
 
-def thesis_boundary(case: str, w: int) -> int | None:
-    """The thesis's smallest crossing swarm (Ch. 4.6.3): 3w + 2 for case A, 3w for B-D."""
+def rule_swarm(preset: str, width: int, limits: str) -> int:
+    """The swarm the counting rule needs to cross ``width`` with ``preset`` under ``limits``."""
+    from swarm_sim.runner import resolve_params
+
+    return int(resolve_params(preset, 100, width, limits=limits).min_robots_rule)
+
+
+def thesis_boundary(case: str, w: int, preset: str | None = None) -> int | None:
+    """The thesis's smallest crossing swarm: 3w + 2 for case A, 3w for B-D (Ch. 4.6.3); for the
+    tapering rows the thesis's counting rule (Ch. 5.5.2) at that width (``preset`` needed)."""
+    if case in TAPERING and preset is not None:
+        return rule_swarm(preset, w, "thesis")
     return {"A": 3 * w + 2, "B": 3 * w, "C": 3 * w, "D": 3 * w}.get(case)
 
 
@@ -81,6 +99,25 @@ def run(args: argparse.Namespace) -> int:
     exps = _selected(args.chapter, args.cases)
     check_seed(args.seed, "--seed", max(args.runs or runs for *_, runs in exps))
     out_dir(args.out, "--out", create=False)  # checked, created only once every input is known good
+    # the tapering rows: one sweep per width at the rule's swarm for these limits; a width no
+    # structure of these limits can span (e.g. 20-30 widths with the derived record) is skipped
+    # and said so, never run as a retreat nobody asked for
+    from swarm_sim.errors import InputError
+
+    expanded, skipped = [], []
+    for ch, case, preset, robots, widths, runs in exps:
+        if robots != "rule":
+            expanded.append((ch, case, preset, robots, widths, runs))
+            continue
+        for w in widths:
+            try:
+                expanded.append((ch, case, preset, (rule_swarm(preset, w, args.limits),), (w,), runs))
+            except InputError as e:
+                skipped.append({"case": case, "void_width": w, "why": str(e)})
+    if not expanded:
+        raise InputError(f"--limits {args.limits}: no selected experiment can run with these limits "
+                         f"({'; '.join(s['why'] for s in skipped)})")
+    exps = expanded
     specs = [SweepSpec(preset, tuple(robots), tuple(widths), runs=args.runs or runs, limits=args.limits,
                        seed0=args.seed) for _, _, preset, robots, widths, runs in exps]
     from swarm_sim.sweeps.executors import resolve_run_fn
@@ -113,22 +150,21 @@ def run(args: argparse.Namespace) -> int:
                 if r["limits"] != args.limits:
                     continue
                 cells.setdefault((int(r["robots"]), int(r["void_width"])), []).append(bool(r["success"]))
-            rows = {}
+            c = cases.setdefault(case, {"preset": preset, "chapter": chapter, "cells": 0, "runs": 0, "by_width": {}})
+            c["cells"] += len(robots) * len(widths)
+            c["runs"] += sum(len(v) for k, v in cells.items() if k[0] in robots and k[1] in widths)
             for w in widths:
-                b = observed_boundary({k: v for k, v in cells.items() if k[0] in robots}, w)
-                b["thesis"] = thesis_boundary(case, w)
+                b = observed_boundary({k: v for k, v in cells.items() if k[0] in robots and k[1] == w}, w)
+                b["thesis"] = thesis_boundary(case, w, preset)
                 b["matches"] = b["thesis"] is not None and b["observed"] == b["thesis"] and b["below_all_retreat"]
-                rows[str(w)] = b
-            cases[case] = {"preset": preset, "chapter": chapter, "cells": len(robots) * len(widths),
-                           "runs": sum(len(v) for k, v in cells.items() if k[0] in robots and k[1] in widths),
-                           "by_width": rows}
+                c["by_width"][str(w)] = b
     report = None
     if not interrupted and not args.no_report:
         from ..report.build import build_report
 
         report = build_report(db, out / "report", limits=args.limits)
     payload = {"chapter": args.chapter, "limits": args.limits, "db": str(db), "wall_s": round(wall, 1),
-               "interrupted": interrupted, "cases": cases, "report": report}
+               "interrupted": interrupted, "cases": cases, "skipped": skipped, "report": report}
     lines = [f"reproduce chapter {args.chapter} ({args.limits} limits) -> {db} in {wall:.0f} s"]
     for case, c in cases.items():
         parts = []
@@ -137,6 +173,8 @@ def run(args: argparse.Namespace) -> int:
             obs = b["observed"] if b["observed"] is not None else "none"
             parts.append(f"w={w}: {obs}{th}{'' if b['below_all_retreat'] or b['observed'] is None else ' *'}")
         lines.append(f"  case {case}: {c['runs']} runs; smallest swarm that always crossed: " + ", ".join(parts))
+    for sk in skipped:
+        lines.append(f"  skipped {sk['case']} at {sk['void_width']} widths: {sk['why']}")
     if report:
         lines.append(f"  report: {report['html']}")
     if interrupted:
@@ -154,7 +192,8 @@ def register(sub, common) -> None:
                        help="every thesis experiment at its own run counts, then the report",
                        description=__doc__.split("\n\n")[0])
     p.add_argument("--chapter", default="all", help="4 (cases A-D), 5 (large void) or all (default)")
-    p.add_argument("--cases", default=None, help="only these cases, e.g. A,B or large (default: all of the chapter)")
+    p.add_argument("--cases", default=None,
+                   help="only these cases, e.g. A,B or large,taper-15,taper-30 (default: all of the chapter)")
     p.add_argument("--runs", type=int, default=None, help="runs per cell (default: the thesis's own counts)")
     p.add_argument("--workers", type=int, default=None, help="worker processes (default: CPU count)")
     p.add_argument("--limits", default="thesis", help="thesis (default: reproduce the thesis), derived, or a path")
