@@ -417,3 +417,89 @@ def test_the_report_summarises_the_deviation_per_table_with_a_ratio_map(report):
     assert (out / "figures" / "thesis_table_4_4_ratio.csv").is_file()
     assert not (out / "figures" / "thesis_table_4_7_ratio.png").exists()
     assert "how far ours is from the thesis" in (out / "report.md").read_text()
+
+
+# ------------------------------------------------------------------ issue 14: the thesis's figures beside ours
+def _figure_refs_in_the_report_code() -> set[str]:
+    """Every thesis figure the report's code cites: FIG_REFS, the large-void section's numbers and
+    any literal "Fig. 4.xx" left in build.py."""
+    from voidcross.report import build as B
+
+    refs = set(B.LARGE_VOID_FIG_REFS.values())
+    for times, *others in B.FIG_REFS.values():
+        refs |= set(times or ())
+        refs |= {r.removeprefix("Fig. ") for r in others if r}
+    refs |= set(re.findall(r"Fig\. (\d+\.\d+)", Path(B.__file__).read_text()))
+    return refs
+
+
+def test_thesis_figures_quote_the_thesis_text_verbatim_at_their_line():
+    """figures.toml: each caption and finding occurs verbatim in the thesis text once whitespace and
+    line-break hyphenation are normalised (normalise_text), the caption where `line` says."""
+    from voidcross.report.thesis import ThesisFigure, normalise_text, thesis_figures
+
+    assert normalise_text("the posi-\n\n tions of  x\n\ny") == "the positions of x y"
+    figs = thesis_figures()
+    assert len(figs) >= 20 and all(isinstance(f, ThesisFigure) for f in figs.values())
+    for n, f in figs.items():
+        assert re.fullmatch(r"\d\.\d+", n) and f.number == n
+        for quote in (f.caption, f.finding):
+            assert quote == normalise_text(quote) and quote.endswith("."), (n, quote)
+        assert 1 <= len(re.findall(r"[.?!](?= [A-Z]|$)", f.finding)) <= 3, (n, f.finding)  # 1-3 sentences
+    if not THESIS_TEXT.exists():
+        pytest.skip(f"thesis text not at {THESIS_TEXT}")
+    text = THESIS_TEXT.read_text()
+    lines = text.splitlines()
+    whole = normalise_text(text)
+    for n, f in figs.items():
+        label = f"Figure {n}: "
+        assert [k + 1 for k, ln in enumerate(lines) if ln.strip().startswith(label)] == [f.line], n
+        # the caption starts at `line` and ends at a line end (not cut short inside a line)
+        ends = [normalise_text("\n".join(lines[f.line - 1:f.line - 1 + k])) for k in range(1, 8)]
+        assert label + f.caption in ends, (n, ends)
+        assert f.finding in whole, n
+        near = normalise_text("\n".join(lines[f.finding_line - 1:f.finding_line + 40]))
+        assert 0 <= near.find(f.finding) < len(normalise_text(lines[f.finding_line - 1])), (n, f.finding_line)
+
+
+def test_every_figure_the_report_cites_has_the_thesis_words():
+    from voidcross.report.thesis import thesis_figures
+
+    refs = _figure_refs_in_the_report_code()
+    assert {"4.13", "4.18", "4.23", "4.39", "4.43", "5.9", "5.13"} <= refs
+    assert refs == set(thesis_figures())  # each cited figure has an entry, and no entry is uncited
+
+
+def test_the_report_quotes_the_thesis_beside_our_figure(report):
+    """Right after each of our figures with a thesis equivalent: the thesis's caption and finding,
+    quoted; figures without one (case A's times) have none."""
+    import html as _html
+
+    from voidcross.report.thesis import thesis_figures
+
+    out, _ = report
+    figs = thesis_figures()
+    md = (out / "report.md").read_text()
+    blocks = md.split("\n\n")
+    quoted, plain = {}, 0
+    for k, b in enumerate(blocks):
+        if not b.startswith("!["):
+            continue
+        caption = blocks[k + 1]
+        m = re.search(r"cf\. Fig\. (\d+\.\d+)", caption)
+        after = blocks[k + 2]
+        if m and m.group(1) in figs:
+            f = figs[m.group(1)]
+            assert after == f"**Thesis, Fig. {f.number}** ({f.caption}): “{f.finding}”", caption
+            quoted[f.number] = caption
+        else:
+            plain += 1
+            assert not after.startswith("**Thesis, Fig."), caption
+    assert {"4.39", "4.40", "4.41", "4.42", "4.43", "4.36", "4.37", "4.38", "4.13",
+            "5.9", "5.10", "5.11", "5.12"} <= set(quoted)
+    assert quoted["4.39"].startswith("*case-d: ") and quoted["4.13"].startswith("*case-a: ")
+    assert plain >= 5  # case A's time figures, the limits plot, the ratio maps ...
+    html = (out / "index.html").read_text()
+    f = figs["4.39"]
+    assert f"<b>Thesis, Fig. 4.39</b> ({_html.escape(f.caption)}): “{_html.escape(f.finding)}”" in html
+    assert html.index("cf. Fig. 4.39") < html.index(_html.escape(f.finding)) < html.index("cf. Fig. 4.40")

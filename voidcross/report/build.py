@@ -18,7 +18,7 @@ from . import figures as F
 from .compare import cell_text, compare_table, runs_for, table_summary
 from .data import RunSet, by_point, grid, load_runs, metric_values, summary
 from .document import Figure, MarkdownText, Note, Para, Raw, Section, Table, to_html, to_markdown
-from .thesis import thesis_tables
+from .thesis import thesis_figures, thesis_tables
 
 CASE_NAMES = {"case-a": "Case A", "case-b": "Case B", "case-c": "Case C", "case-d": "Case D"}
 #: thesis figure numbers per preset: (times Tt,Ts,Ta,Td,To), seed ids, seed positions, target finder
@@ -29,6 +29,9 @@ FIG_REFS = {
     "case-d": (("4.39", "4.40", "4.41", "4.42", "4.43"), "Fig. 4.36", "Fig. 4.37", "Fig. 4.38"),
 }
 TIME_FIG_METRICS = ("Tt", "Ts", "Ta", "Td", "To")
+#: thesis figure numbers of the large-void section: seed/target-finder ids, seed position along
+#: the edge, total time, time per phase, assembly/disassembly
+LARGE_VOID_FIG_REFS = {"ids": "5.9", "edge": "5.10", "tt": "5.11", "phases": "5.12", "asm": "5.13"}
 MAX_ASSETS = 80
 
 
@@ -118,6 +121,24 @@ def boundaries_for(preset: str, limits: dict, widths: list[int]) -> dict[str, di
     return out
 
 
+def thesis_says(ref: str | None, figs: dict) -> Para | None:
+    """The thesis's caption of its Fig. ``ref`` ("4.39" or "Fig. 4.39") and its own words on what
+    the figure shows (``thesis_data/figures.toml``), as one paragraph to set beside our figure;
+    None when ``ref`` is None or not in ``figs``."""
+    fig = figs.get(ref.removeprefix("Fig. ")) if ref else None
+    if fig is None:
+        return None
+    return Para(f"**Thesis, Fig. {fig.number}** ({fig.caption}): “{fig.finding}”")
+
+
+def _add_figure(sec: Section, fig: Figure, ref: str | None, figs: dict) -> None:
+    """Our figure, then (when it has a thesis equivalent) what the thesis says of its own."""
+    sec.add(fig)
+    para = thesis_says(ref, figs)
+    if para is not None:
+        sec.add(para)
+
+
 # ------------------------------------------------------------------ per preset
 def _mean_table(runs, metric: str, robots: list[int], widths: list[int], caption: str) -> Table:
     pts = by_point(runs)
@@ -168,24 +189,27 @@ def _preset_section(preset: str, rs: RunSet, limits: dict, fig_dir: Path, rel: s
         sec.add(_mean_table(runs, metric, robots, widths, f"{preset}: mean {metric} (s)"))
     # times vs swarm size
     refs = FIG_REFS.get(preset, (None, None, None, None))
+    figs = thesis_figures()
     for k, metric in enumerate(TIME_FIG_METRICS):
         ref = f"cf. Fig. {refs[0][k]}" if refs[0] else "mean and 25/75 %"
         fn = f"{name}-time-{metric}.png"
         if F.times_vs_size(runs, metric, fig_dir / fn, preset, ref):
-            sec.add(Figure(f"{rel}/{fn}", f"{preset}: {F.METRIC_NAMES[metric]} vs swarm size, mean and 25/75 % ({ref})"))
+            _add_figure(sec, Figure(f"{rel}/{fn}", f"{preset}: {F.METRIC_NAMES[metric]} vs swarm size, mean and "
+                                                  f"25/75 % ({ref})"), refs[0][k] if refs[0] else None, figs)
         else:
             sec.add(Note(f"{preset}: no run recorded {metric} (e.g. no run retreated / crossed)."))
     for attr, what, ref in (("seed_robot", "seed-robot id frequency", refs[1]),
                             ("target_finder", "target-finder id frequency", refs[3])):
         fn = f"{name}-{attr}.png"
         if F.id_frequency(runs, attr, fig_dir / fn, preset, what + (f" (cf. {ref})" if ref else "")):
-            sec.add(Figure(f"{rel}/{fn}", f"{preset}: {what} per swarm size and void width"
-                           + (f" (cf. {ref})" if ref else "")))
+            _add_figure(sec, Figure(f"{rel}/{fn}", f"{preset}: {what} per swarm size and void width"
+                                    + (f" (cf. {ref})" if ref else "")), ref, figs)
         else:
             sec.add(Note(f"{preset}: no {what.split(' id')[0]} recorded."))
     fn = f"{name}-seed-positions.png"
     if F.seed_positions(runs, fig_dir / fn, preset, f"cf. {refs[2]}" if refs[2] else "all runs"):
-        sec.add(Figure(f"{rel}/{fn}", f"{preset}: seed robot positions" + (f" (cf. {refs[2]})" if refs[2] else "")))
+        _add_figure(sec, Figure(f"{rel}/{fn}", f"{preset}: seed robot positions"
+                                + (f" (cf. {refs[2]})" if refs[2] else "")), refs[2], figs)
     else:
         sec.add(Note(f"{preset}: no seed position recorded."))
     return sec
@@ -277,6 +301,7 @@ def _large_void_section(rs: RunSet, fig_dir: Path, rel: str, limits: dict | None
         sec.add(Note("no large-void runs in this database (`voidcross sweep --preset large-void --robots 70 "
                      "--void-width 6-10 --runs 10 --db ...`)."))
         return sec
+    figs, fr = thesis_figures(), LARGE_VOID_FIG_REFS
     for preset in large:
         runs = rs.of(preset)
         if not runs:
@@ -287,25 +312,32 @@ def _large_void_section(rs: RunSet, fig_dir: Path, rel: str, limits: dict | None
                      f"{sorted({r.void_width for r in runs})}, crossed {sum(r.success for r in runs)}, "
                      f"robots lost {sum(r.robots_lost for r in runs)}."))
         if F.large_void_ids(runs, fig_dir / f"{name}-ids.png", preset):
-            sec.add(Figure(f"{rel}/{name}-ids.png", f"{preset}: seed and target-finder ids (cf. Fig. 5.9)"))
+            _add_figure(sec, Figure(f"{rel}/{name}-ids.png",
+                                    f"{preset}: seed and target-finder ids (cf. Fig. {fr['ids']})"), fr["ids"], figs)
         if F.large_void_seed_edge(runs, fig_dir / f"{name}-edge.png", preset):
-            sec.add(Figure(f"{rel}/{name}-edge.png", f"{preset}: seed position along the edge (cf. Fig. 5.10)"))
+            _add_figure(sec, Figure(f"{rel}/{name}-edge.png",
+                                    f"{preset}: seed position along the edge (cf. Fig. {fr['edge']})"),
+                        fr["edge"], figs)
         F.large_void_times(runs, [("T_t", "Tt")], fig_dir / f"{name}-tt.png",
-                           f"{preset}: total simulation time (cf. Fig. 5.11)")
-        sec.add(Figure(f"{rel}/{name}-tt.png", f"{preset}: total time vs void width (cf. Fig. 5.11)"))
+                           f"{preset}: total simulation time (cf. Fig. {fr['tt']})")
+        _add_figure(sec, Figure(f"{rel}/{name}-tt.png", f"{preset}: total time vs void width (cf. Fig. {fr['tt']})"),
+                    fr["tt"], figs)
         F.large_void_times(runs, [("(a) T_s initial exploration", "Ts"), ("(b) T_a construction", "Ta"),
                                   ("(c) T_o target exploration", "To")], fig_dir / f"{name}-phases.png",
-                           f"{preset}: time per phase (cf. Fig. 5.12)")
-        sec.add(Figure(f"{rel}/{name}-phases.png", f"{preset}: T_s, T_a, T_o vs void width (cf. Fig. 5.12)"))
+                           f"{preset}: time per phase (cf. Fig. {fr['phases']})")
+        _add_figure(sec, Figure(f"{rel}/{name}-phases.png",
+                                f"{preset}: T_s, T_a, T_o vs void width (cf. Fig. {fr['phases']})"), fr["phases"], figs)
         has = F.large_void_times(runs, [("(a) assembly", "extra:assembly"), ("(b) disassembly", "extra:disassembly")],
-                                 fig_dir / f"{name}-asm.png", f"{preset}: assembly and disassembly (cf. Fig. 5.13)")
+                                 fig_dir / f"{name}-asm.png",
+                                 f"{preset}: assembly and disassembly (cf. Fig. {fr['asm']})")
         if has:
-            sec.add(Figure(f"{rel}/{name}-asm.png", f"{preset}: assembly and disassembly time (cf. Fig. 5.13)"))
+            _add_figure(sec, Figure(f"{rel}/{name}-asm.png",
+                                    f"{preset}: assembly and disassembly time (cf. Fig. {fr['asm']})"), fr["asm"], figs)
         else:
             for f in (fig_dir / f"{name}-asm.png", fig_dir / f"{name}-asm.csv"):
                 f.unlink(missing_ok=True)  # not shown: not left behind either
             sec.add(Note(f"{preset}: the runs do not record separate assembly/disassembly times "
-                         "(Fig. 5.13); T_a above covers both."))
+                         f"(Fig. {fr['asm']}); T_a above covers both."))
     return sec
 
 
