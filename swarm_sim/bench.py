@@ -5,10 +5,12 @@
   so the robots' bodies cover ``coverage`` (5 %) of the floor, so density is the same for
   every N. Each measurement runs the real :func:`swarm_sim.step.step`.
 * :func:`workload_bench` (``sim bench --workload thesis``): what users run, the thesis's
-  bridge runs of 5-15 robots to their end (crossings and a retreat, :data:`THESIS_WORKLOAD`),
-  as CPU seconds per run, steps per second and robot-steps per second, with the exploration
-  rate of 10,000 robots measured in the same call as the reference: the ratio says how far
-  the real workload is from the engine's best case (per-step interpreter overhead).
+  bridge runs of 8-70 robots to their end (crossings and retreats, :data:`THESIS_WORKLOAD`),
+  with both engines (``compiled`` and ``reference``, :func:`swarm_sim.runner.simulate`) in
+  the same call: CPU seconds per run, runs per second, the speed-up and whether both gave the
+  same runs, plus the exploration rate of 10,000 robots measured in the same call (the
+  ratio says how far the real workload is from the engine's best case) and the compiled
+  engine's cold compile time in a fresh process.
 """
 
 from __future__ import annotations
@@ -114,53 +116,120 @@ def bench(robots: int = 10_000, steps: int = 500, scaling: tuple[int, ...] = (1_
     }
 
 
-#: the real workload: (preset, robots, void widths, limits), each run to its end
+#: the real workload: (preset, robots, void widths, limits), each run to its end (issue 14's mix:
+#: case A 8/2, case D 9/3 and 50/5, the large void 70/8, plus cases B, C and a case-D retreat)
 THESIS_WORKLOAD = (
     ("case-a", 8, 2, "thesis"), ("case-b", 15, 5, "thesis"), ("case-c", 9, 3, "thesis"),
     ("case-d", 9, 3, "thesis"), ("case-d", 8, 3, "thesis"), ("case-d", 9, 3, "derived"),
+    ("case-d", 50, 5, "thesis"), ("large-void", 70, 8, "derived"),
 )
 
 
-def workload_bench(seeds: int = 3, use_numba: bool | None = None, progress=lambda it, total: it) -> dict:
-    """CPU cost of the thesis's bridge runs (:data:`THESIS_WORKLOAD`, ``seeds`` seeds each) and
-    its ratio to the exploration rate measured in the same call (module docstring)."""
+def compile_times(timeout_s: float = 600.0) -> dict:
+    """Start-up of the compiled engine in a fresh process: ``cold_compile_s`` with an empty numba
+    cache (every kernel compiled), ``warm_start_s`` with the cache just written (loaded, not
+    compiled); each the time of a first short case-D run, imports excluded."""
+    import os
+    import subprocess
+    import tempfile
+
+    code = ("import time; from swarm_sim.runner import resolve_params, simulate; "
+            "p = resolve_params('case-d', 3, 1, 'thesis', 60.0); t = time.perf_counter(); "
+            "simulate(p, 1, engine='compiled'); print(time.perf_counter() - t)")
+    out = {}
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        for key in ("cold_compile_s", "warm_start_s"):
+            r = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                               timeout=timeout_s, check=True)
+            out[key] = round(float(r.stdout.strip().splitlines()[-1]), 3)
+    return out
+
+
+def workload_bench(seeds: int = 3, use_numba: bool | None = None, progress=lambda it, total: it,
+                   workload: tuple = THESIS_WORKLOAD, compile_time: bool = True) -> dict:
+    """CPU cost of the thesis's bridge runs (:data:`THESIS_WORKLOAD`, ``seeds`` seeds each) with
+    both engines in this call (``compiled`` and ``reference``: the speed-up, and a check that they
+    gave the same runs), and the ratio to the exploration rate measured in the same call (module
+    docstring). The compiled figures are steady state (the kernels compiled and cached first);
+    ``compile_time``: also measure the cold compile in a fresh process (:func:`compile_times`)."""
+    from .compiled import AVAILABLE
     from .runner import resolve_params, simulate
 
     if isinstance(seeds, bool) or not isinstance(seeds, int) or not 1 <= seeds <= 1000:
         raise InputError(f"--seeds must be an integer in 1..1000, got {seeds!r}")
+    engines = ("compiled", "reference") if AVAILABLE and use_numba is not False else ("reference",)
     ref_robots, ref_steps = 10_000, 100
     ref_cpu = time_steps(ref_robots, ref_steps, use_numba=use_numba)
     ref_rate = ref_robots * ref_steps / ref_cpu
-    cases = []
-    jobs = [(c, s) for c in THESIS_WORKLOAD for s in range(seeds)]
+    if "compiled" in engines:  # compile (or load from the cache) before anything is timed
+        simulate(resolve_params("case-d", 3, 1, "thesis", 30.0), 0, engine="compiled")
+    jobs = [(c, s) for c in workload for s in range(seeds)]
     per: dict = {}
     for (preset, n, w, lim), seed in progress(jobs, len(jobs)):
         p = resolve_params(preset, n, w, lim)
-        t0 = time.process_time()
-        _, res = simulate(p, 1000 + seed, use_numba=use_numba)
-        cpu = time.process_time() - t0
-        d = per.setdefault((preset, n, w, lim), {"runs": 0, "cpu_s": 0.0, "steps": 0, "outcomes": {}})
-        d["runs"] += 1
-        d["cpu_s"] += cpu
-        d["steps"] += res.steps
+        d = per.setdefault((preset, n, w, lim), {e: {"runs": 0, "cpu_s": 0.0, "steps": 0} for e in engines}
+                           | {"outcomes": {}, "identical": True, "reference_steps": 0})
+        runs = {}
+        for eng in engines:
+            st: dict = {}
+            t0 = time.process_time()
+            _, res = simulate(p, 1000 + seed, use_numba=use_numba, engine=eng, stats=st)
+            cpu = time.process_time() - t0
+            e = d[eng]
+            e["runs"] += 1
+            e["cpu_s"] += cpu
+            e["steps"] += res.steps
+            if eng == "compiled":
+                d["reference_steps"] += st.get("reference_steps", 0)
+            r = res.to_dict(events=True)
+            r.pop("wall_s")
+            runs[eng] = r
+        d["identical"] &= all(r == runs[engines[0]] for r in runs.values())
         d["outcomes"][res.end_reason] = d["outcomes"].get(res.end_reason, 0) + 1
-    tot_cpu = tot_steps = tot_rs = 0.0
+    main = engines[0]
+    cases = []
+    tot = {e: {"cpu_s": 0.0, "steps": 0, "rs": 0.0} for e in engines}
     for (preset, n, w, lim), d in per.items():
-        rs = n * d["steps"]
-        tot_cpu += d["cpu_s"]
-        tot_steps += d["steps"]
-        tot_rs += rs
-        cases.append({"preset": preset, "robots": n, "void_width": w, "limits": lim, "runs": d["runs"],
-                      "cpu_s_per_run": round(d["cpu_s"] / d["runs"], 4), "steps_per_run": d["steps"] // d["runs"],
-                      "us_per_step": round(1e6 * d["cpu_s"] / d["steps"], 2),
-                      "robot_steps_per_s": round(rs / d["cpu_s"], 1), "outcomes": d["outcomes"]})
-    rate = tot_rs / tot_cpu
-    return {
-        "workload": "thesis", "seeds": seeds, "runs": len(jobs), "cpu_s": round(tot_cpu, 3),
-        "cpu_s_per_run": round(tot_cpu / len(jobs), 4), "us_per_step": round(1e6 * tot_cpu / tot_steps, 2),
+        c = {"preset": preset, "robots": n, "void_width": w, "limits": lim, "runs": d[main]["runs"],
+             "steps_per_run": d[main]["steps"] // d[main]["runs"], "outcomes": d["outcomes"]}
+        for eng in engines:
+            e = d[eng]
+            tot[eng]["cpu_s"] += e["cpu_s"]
+            tot[eng]["steps"] += e["steps"]
+            tot[eng]["rs"] += n * e["steps"]
+            pre = "" if eng == main else f"{eng}_"
+            c[f"{pre}cpu_s_per_run"] = round(e["cpu_s"] / e["runs"], 4)
+            c[f"{pre}cpu_ms_per_run"] = round(1e3 * e["cpu_s"] / e["runs"], 2)
+            c[f"{pre}runs_per_s"] = round(e["runs"] / e["cpu_s"], 2)
+            c[f"{pre}us_per_step"] = round(1e6 * e["cpu_s"] / e["steps"], 2)
+            c[f"{pre}robot_steps_per_s"] = round(n * e["steps"] / e["cpu_s"], 1)
+        if main == "compiled":
+            c["speedup_vs_reference"] = round(d["reference"]["cpu_s"] / d["compiled"]["cpu_s"], 2)
+            c["reference_steps_per_run"] = d["reference_steps"] // d[main]["runs"]
+            c["identical_to_reference"] = d["identical"]
+        cases.append(c)
+    rate = tot[main]["rs"] / tot[main]["cpu_s"]
+    out = {
+        "workload": "thesis", "seeds": seeds, "runs": len(jobs), "engine": main, "engines": list(engines),
+        "cpu_s": round(tot[main]["cpu_s"], 3), "cpu_s_per_run": round(tot[main]["cpu_s"] / len(jobs), 4),
+        "runs_per_s": round(len(jobs) / tot[main]["cpu_s"], 2),
+        "us_per_step": round(1e6 * tot[main]["cpu_s"] / tot[main]["steps"], 2),
         "robot_steps_per_s": round(rate, 1), "reference_exploration_robot_steps_per_s": round(ref_rate, 1),
         "ratio_to_exploration": round(rate / ref_rate, 5), "numba": HAVE_NUMBA if use_numba is None else use_numba,
         "load_average_1min": round(_load(), 2), "cases": cases,
-        "note": "CPU time of this process; the reference is 10,000 exploring robots x 100 steps in the same "
-                "call; a ratio far below 1 is per-step interpreter overhead, the target of a compiled engine",
+        "note": "CPU time of this process; both engines run every (case, seed) in this call; speedup_vs_reference "
+                "is reference CPU / compiled CPU (steady state: kernels compiled first, cold compile reported "
+                "apart); the exploration reference is 10,000 exploring robots x 100 steps in the same call",
     }
+    if main == "compiled":
+        out["reference_cpu_s"] = round(tot["reference"]["cpu_s"], 3)
+        out["reference_runs_per_s"] = round(len(jobs) / tot["reference"]["cpu_s"], 2)
+        out["speedup_vs_reference"] = round(tot["reference"]["cpu_s"] / tot["compiled"]["cpu_s"], 2)
+        out["identical_to_reference"] = all(c["identical_to_reference"] for c in cases)
+        d93 = per.get(("case-d", 9, 3, "thesis"))
+        if d93 is not None:
+            out["case_d_9_3_cpu_ms_per_run"] = round(1e3 * d93["compiled"]["cpu_s"] / d93["compiled"]["runs"], 2)
+        if compile_time:
+            out.update(compile_times())
+    return out

@@ -30,7 +30,12 @@ import numpy as np
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
+from .dijkstra import csr_pair
+from .grid import HAVE_NUMBA
 from .world import World
+
+if HAVE_NUMBA:
+    from .dijkstra import dijkstra_grid
 
 #: edges into a blocked cell get this weight; a cost above :data:`BLOCKED` is "no path"
 _BLOCK_W = 1e9
@@ -210,6 +215,23 @@ class CostField:
         return float(g.cx[c]), float(g.cy[c])
 
 
+_CSR: dict = {}
+
+
+def _csr(grid: NavGrid) -> tuple:
+    """The grid graph's CSR and transposed CSR (as scipy's dijkstra sees them) with the edge lengths
+    in each one's entry order (built once per grid)."""
+    hit = _CSR.get(id(grid))
+    if hit is not None and hit[0] is grid:
+        return hit[1]
+    ip, ix, od, ipt, ixt, odt = csr_pair(grid.ei, grid.ej, grid.nx * grid.ny)
+    out = (ip, ix, grid.ew[od].copy(), ipt, ixt, grid.ew[odt].copy())
+    if len(_CSR) > 8:
+        _CSR.clear()
+    _CSR[id(grid)] = (grid, out)
+    return out
+
+
 def cost_field(world: World, goal_x: float, goal_y: float, blocked=None, blocked_key: bytes = b"") -> CostField:
     """The field towards (goal_x, goal_y) cm with ``blocked`` cells (the structure) closed:
     a bool mask over the cells, or a function returning it (called only when the field for
@@ -231,6 +253,14 @@ def cost_field(world: World, goal_x: float, goal_y: float, blocked=None, blocked
     if blocked is not None:
         closed |= blocked
     closed[gc] = False
+    if HAVE_NUMBA and grid.free[gc]:  # the same search compiled (swarm_sim.dijkstra: scipy's answer bit for bit)
+        ip, ix, ew_c, ipt, ixt, ew_t = _csr(grid)
+        cost, pred = dijkstra_grid(n, gc, closed, ip, ix, ew_c, ipt, ixt, ew_t, BLOCKED)
+        f = CostField(grid, float(goal_x), float(goal_y), gc, cost, pred, closed)
+        _FIELDS[key] = f
+        while len(_FIELDS) > 64:
+            _FIELDS.popitem(last=False)
+        return f
     w = grid.ew + _BLOCK_W * (closed[grid.ei] | closed[grid.ej])
     # the goal cell joins its open neighbours even when the static grid calls it blocked
     extra_i, extra_j, extra_w = [], [], []

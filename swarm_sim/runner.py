@@ -223,12 +223,63 @@ def construction_times(events: tuple, phase: int | None = None) -> dict:
 
 # ---------------------------------------------------------------------------- run
 
+#: the engines :func:`simulate` knows: ``compiled`` (swarm_sim.compiled's fast-forward kernel
+#: between reference steps, bit-identical) and ``reference`` (every step by swarm_sim.step)
+ENGINES = ("compiled", "reference")
+
+
+#: environment variable naming the default engine (``voidcross sweep --engine`` sets it for its workers)
+ENGINE_ENV = "SWARM_SIM_ENGINE"
+
+
+def default_engine() -> str:
+    """``$SWARM_SIM_ENGINE`` when set, else ``compiled`` when numba is importable, else ``reference``."""
+    import os
+
+    from .compiled import AVAILABLE
+
+    env = os.environ.get(ENGINE_ENV)
+    if env in ENGINES and (env == "reference" or AVAILABLE):
+        return env
+    return "compiled" if AVAILABLE else "reference"
+
+
+def resolve_engine(engine: str | None) -> str:
+    """``None`` -> :func:`default_engine`; an unknown name (or ``compiled`` without numba) is an
+    :class:`InputError`."""
+    if engine is None:
+        return default_engine()
+    if engine not in ENGINES:
+        raise InputError(f"engine must be one of {', '.join(ENGINES)}, got {engine!r}")
+    from .compiled import AVAILABLE
+
+    if engine == "compiled" and not AVAILABLE:
+        raise InputError("engine 'compiled' needs numba, which is not installed (use engine='reference')")
+    return engine
+
+
 def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None = None,
-             use_numba: bool | None = None, until: str | None = None) -> tuple[SwarmState, RunResult]:
+             use_numba: bool | None = None, until: str | None = None, engine: str | None = None,
+             stats: dict | None = None) -> tuple[SwarmState, RunResult]:
     """Run to the end (target found, retreat finished, or ``max_time_s``); ``until="seed"``
-    stops once the seed is chosen and aligned (seed statistics depend on nothing later)."""
+    stops once the seed is chosen and aligned (seed statistics depend on nothing later).
+
+    ``engine``: ``compiled`` (default when numba is importable) or ``reference``; both give
+    the same run bit for bit. The compiled engine fast-forwards the steps in which only
+    continuous things happen (:mod:`swarm_sim.compiled`) and runs every other step with the
+    reference :func:`~swarm_sim.step.step`; with ``on_step`` or ``use_numba=False`` every step
+    is a reference step. ``check=True`` checks the invariants after every step either way (the
+    kernel checks the per-robot ones itself and leaves steps that could change the structure's
+    to the reference). ``stats``: a dict to receive ``reference_steps``, ``kernel_steps``,
+    ``kernel_calls`` and the kernel's stop reasons."""
     if until not in (None, "seed"):
         raise InputError(f"until must be None or 'seed', got {until!r}")
+    engine = resolve_engine(engine)
+    fast = engine == "compiled" and on_step is None and use_numba is not False
+    if fast:
+        from .compiled import fast_forward
+    ref_steps = 0
+    last_ok = True
     rng = np.random.default_rng(seed)
     world = World.from_params(p)
     state = init_state(p, rng)
@@ -238,9 +289,13 @@ def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None
     if on_step is not None:
         on_step(state)
     while state.phase not in (Phase.SUCCESS, Phase.RETREATED, Phase.TIMEOUT):
+        if fast and last_ok:
+            state, _ = fast_forward(state, p, world, rng, check, stats=stats)
         state = step(state, p, world, rng, use_numba)
+        ref_steps += 1
         if check:
             v = violations(state, p, world, p.robots)
+            last_ok = not v
             if v:
                 viol.extend(v[:5])
                 lost.update(int(m.group(1)) for m in map(_OVER.search, v) if m)
@@ -253,6 +308,10 @@ def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None
         if until == "seed" and state.seed_position is not None:
             break
     wall = time.perf_counter() - t0
+    if stats is not None:
+        stats["engine"] = engine
+        stats["reference_steps"] = stats.get("reference_steps", 0) + ref_steps
+        stats.setdefault("kernel_steps", 0)
     times = times_from_events(state.events, state.t_s, state.phase)
     side = world.side_of(state.x_cm)
     res = RunResult(
@@ -283,10 +342,11 @@ def _levels_used(p: Params, events) -> list:
 
 
 def run_scenario(preset: str, robots: int, void_width: int, seed: int, limits: str = "derived",
-                 max_time_s: float | None = None, **overrides) -> RunResult:
+                 max_time_s: float | None = None, engine: str | None = None, **overrides) -> RunResult:
     """One run. ``preset``: a preset name (``case-d``) or TOML path; ``robots``: swarm size;
     ``void_width``: robot widths; ``seed``: RNG seed; ``limits``: ``derived`` | ``thesis`` |
-    path to limits.json; ``max_time_s``: simulated-time cap; ``overrides``: any flat
+    path to limits.json; ``max_time_s``: simulated-time cap; ``engine``: ``compiled`` | ``reference``
+    (default: compiled when numba is importable; the same result either way); ``overrides``: any flat
     :class:`Params` field (``arena_w_cm=800``) plus ``check_invariants=True`` (raise
     :class:`InvariantViolation` on the first broken invariant) and ``until="seed"`` (stop
     once the seed is chosen).
@@ -295,11 +355,13 @@ def run_scenario(preset: str, robots: int, void_width: int, seed: int, limits: s
     until = overrides.pop("until", None)
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError(f"seed must be a non-negative integer, got {seed!r}")
+    engine = resolve_engine(engine)
     p = resolve_params(preset, robots, void_width, limits, max_time_s, **overrides)
-    _, res = simulate(p, int(seed), check=check, until=until)
+    _, res = simulate(p, int(seed), check=check, until=until, engine=engine)
     if check and res.violations:
         raise InvariantViolation(res.violations[0])
     return res
 
 
-__all__ = ["RunResult", "run_scenario", "resolve_params", "simulate", "init_state"]
+__all__ = ["ENGINES", "ENGINE_ENV", "RunResult", "default_engine", "init_state", "resolve_engine", "resolve_params", "run_scenario",
+           "simulate"]

@@ -82,7 +82,7 @@ def draw(rng: np.random.Generator, limits: tuple = LIMITS) -> dict:
     return d
 
 
-def _one(d: dict, max_time_s: float | None) -> dict:
+def _one(d: dict, max_time_s: float | None, engine: str | None = None) -> dict:
     """Run one draw to its end; the findings as a small dict (runs in a worker process)."""
     kw = {k: v for k, v in d.items() if k not in ("preset", "robots", "void_width", "seed", "limits")}
     if kw.get("obstacles") is None:
@@ -92,7 +92,7 @@ def _one(d: dict, max_time_s: float | None) -> dict:
     except InputError as exc:
         return {"status": "invalid", "why": str(exc)}
     try:
-        _, res = simulate(p, d["seed"], check=True)
+        _, res = simulate(p, d["seed"], check=True, engine=engine)
     except InputError as exc:  # e.g. the fixed start grid does not fit: refused, not run
         return {"status": "invalid", "why": str(exc)}
     except Exception as exc:  # noqa: BLE001 - a crash on valid input is a finding, not a stop
@@ -103,18 +103,20 @@ def _one(d: dict, max_time_s: float | None) -> dict:
 
 
 def _star(a):
-    i, d, max_time_s = a
-    return i, _one(d, max_time_s)
+    i, d, max_time_s, engine = a
+    return i, _one(d, max_time_s, engine)
 
 
 def soak(runs: int, seed: int = 0, max_time_s: float | None = None, limits: str | tuple = LIMITS,
-         workers: int = 1, progress=lambda it, total: it, journal: str | Path | None = None) -> dict:
+         workers: int = 1, progress=lambda it, total: it, journal: str | Path | None = None,
+         engine: str | None = None) -> dict:
     """``runs`` random whole runs (module docstring). ``limits``: ``"derived"``, ``"thesis"``,
     a path, or a tuple of them to draw from (default both); ``max_time_s``: override the
     presets' time-limit guard (None: keep it); ``workers``: processes. ``journal``: a JSON-lines
     file every finished draw is appended to; run again with the same file (and the same
     runs, seed, limits and guard) to resume: the draws it holds are tallied, not re-run, and
-    ``wall_s_total`` adds the wall time of every session."""
+    ``wall_s_total`` adds the wall time of every session. ``engine``: ``compiled`` | ``reference``
+    (:func:`swarm_sim.runner.simulate`; the invariants are checked after every step with both)."""
     if isinstance(runs, bool) or not isinstance(runs, int) or runs < 1:
         raise InputError(f"--runs must be a positive integer, got {runs!r}")
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
@@ -123,6 +125,9 @@ def soak(runs: int, seed: int = 0, max_time_s: float | None = None, limits: str 
         raise InputError(f"--max-time must be a positive number of seconds, got {max_time_s}")
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise InputError(f"--workers must be a positive integer, got {workers!r}")
+    from .runner import resolve_engine
+
+    engine = resolve_engine(engine)
     lims = (limits,) if isinstance(limits, str) else tuple(limits)
     from cubot_cad.errors import InputError as _BaseInputError
     from structure_fem.limits import load_limits
@@ -143,7 +148,7 @@ def soak(runs: int, seed: int = 0, max_time_s: float | None = None, limits: str 
     done, earlier_wall, codes = _read_journal(Path(journal), header) if journal is not None else ({}, 0.0, [])
     outs = dict(done)
     todo = [i for i in range(runs) if i not in done]
-    args = [(i, draws[i], max_time_s) for i in todo]
+    args = [(i, draws[i], max_time_s, engine) for i in todo]
     fh = None
     if journal is not None:
         try:

@@ -86,8 +86,9 @@ def _under(out: Path, name: str) -> Path:
 
 
 def run(args: argparse.Namespace) -> int:
-    from swarm_sim.runner import resolve_params, simulate
+    from swarm_sim.runner import resolve_engine, resolve_params, simulate
 
+    engine = resolve_engine(args.engine)
     check_int(args.robots, "--robots", 1, MAX_ROBOTS, "robots in the swarm")
     check_int(args.void_width, "--void-width", 1, None, "robot widths")
     if args.video and Path(args.video).suffix.lower() not in (".mp4", ".gif"):
@@ -123,7 +124,7 @@ def run(args: argparse.Namespace) -> int:
         from swarm_sim.render import Recorder
 
         recorder = Recorder(every_s=args.frame_every)
-    state, res = simulate(p, args.seed, check=args.debug, on_step=recorder)
+    state, res = simulate(p, args.seed, check=args.debug, on_step=recorder, engine=engine)
     payload = res.to_dict(events=args.events)
     payload["limits_rule"] = {"ground_ratio": p.ground_ratio, "ground_margin": p.ground_margin,
                               "line_max_span_widths": p.max_span_widths}
@@ -176,9 +177,11 @@ def run(args: argparse.Namespace) -> int:
 
 
 def soak(args: argparse.Namespace) -> int:
+    from swarm_sim.runner import resolve_engine
     from swarm_sim.soak import LIMITS
     from swarm_sim.soak import soak as do_soak
 
+    engine = resolve_engine(args.engine)
     check_int(args.runs, "--runs", 1, MAX_RUNS, "randomised runs")
     check_int(args.workers, "--workers", 1, MAX_WORKERS, "worker processes")
     check_seed(args.seed)
@@ -187,7 +190,7 @@ def soak(args: argparse.Namespace) -> int:
         out_file(args.journal, "--journal")
     limits = LIMITS if args.limits == "both" else (args.limits,)
     rep = do_soak(args.runs, seed=args.seed, max_time_s=args.max_time, limits=limits, workers=args.workers,
-                  progress=lambda it, n: progress(it, "soak", n), journal=args.journal)
+                  progress=lambda it, n: progress(it, "soak", n), journal=args.journal, engine=engine)
     guard = "the presets' time-limit guards" if args.max_time is None else f"capped at {args.max_time:g} s"
     reasons = ", ".join(f"{k} {v}" for k, v in sorted(rep["end_reasons"].items())) or "none"
     resumed = f" ({rep['resumed_runs']} from the journal, {rep['wall_s_total']:.0f} s wall in all)" \
@@ -217,8 +220,17 @@ def bench(args: argparse.Namespace) -> int:
                  f"{rep['us_per_step']:.0f} us per step, {rep['robot_steps_per_s']:.3g} robot-steps/s = "
                  f"{rep['ratio_to_exploration']:.4f} x the exploration rate measured now "
                  f"({rep['reference_exploration_robot_steps_per_s']:.3g}), numba={rep['numba']}"]
-        lines += [f"  {c['preset']} N={c['robots']} w={c['void_width']} {c['limits']}: {c['cpu_s_per_run']:.2f} s/run, "
-                  f"{c['steps_per_run']} steps, {c['us_per_step']:.0f} us/step, {c['outcomes']}" for c in rep["cases"]]
+        if "speedup_vs_reference" in rep:
+            lines.append(f"compiled engine: {rep['speedup_vs_reference']:.1f}x the reference overall "
+                         f"({rep['runs_per_s']:.1f} vs {rep['reference_runs_per_s']:.2f} runs/s), case-D 9/3 "
+                         f"{rep.get('case_d_9_3_cpu_ms_per_run', float('nan')):.0f} ms CPU per run; identical runs: "
+                         f"{rep['identical_to_reference']}; cold compile {rep.get('cold_compile_s', float('nan')):.1f} s, "
+                         f"warm start {rep.get('warm_start_s', float('nan')):.2f} s")
+        lines += [f"  {c['preset']} N={c['robots']} w={c['void_width']} {c['limits']}: {c['cpu_s_per_run']:.3f} s/run"
+                  + (f" (reference {c['reference_cpu_s_per_run']:.2f} s: {c['speedup_vs_reference']:.1f}x)"
+                     if "speedup_vs_reference" in c else "")
+                  + f", {c['steps_per_run']} steps, {c['us_per_step']:.1f} us/step, {c['outcomes']}"
+                  for c in rep["cases"]]
         emit(args, rep, "\n".join(lines))
         return 0
 
@@ -252,6 +264,10 @@ def pipeline_stage(out: Path, ctx: dict) -> str:
             f"Tt {res.times['Tt']} s -> {target}")
 
 
+ENGINE_HELP = ("compiled | reference (default: compiled when numba is installed); the same run bit for bit, "
+               "compiled fast-forwards the continuous steps (swarm_sim.compiled)")
+
+
 def register(sub, common) -> None:
     p = sub.add_parser("sim", parents=[common], help="swarm_sim: run, soak and benchmark the swarm simulator",
                        formatter_class=argparse.RawDescriptionHelpFormatter, epilog=RUN_EPILOG)
@@ -273,6 +289,7 @@ def register(sub, common) -> None:
     r.add_argument("--frame-every", type=float, default=0.5, help="simulated s between video frames (default 0.5)")
     r.add_argument("--events", action="store_true", help="include the event log in --json output")
     r.add_argument("--out", default=None, help="output directory (default results/sim when writing files)")
+    r.add_argument("--engine", default=None, help=ENGINE_HELP)
     r.set_defaults(func=run)
 
     s = ss.add_parser("soak", parents=[common], help="many randomised whole runs; reports timeouts, violations, "
@@ -287,6 +304,7 @@ def register(sub, common) -> None:
     s.add_argument("--journal", default=None, metavar="FILE",
                    help="append every finished draw to FILE (JSON lines); the same command again resumes "
                         "from it (long soaks in slices)")
+    s.add_argument("--engine", default=None, help=ENGINE_HELP)
     s.set_defaults(func=soak)
 
     b = ss.add_parser("bench", parents=[common], help="exploration-only throughput and scaling",

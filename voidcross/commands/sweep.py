@@ -108,6 +108,13 @@ def execute_plan(plan, executor, workers, address, desc: str, batch: int | None 
 def run(args: argparse.Namespace) -> int:
     from swarm_sim.sweeps import prepare_sweep
 
+    if getattr(args, "engine", None) is not None:
+        import os
+
+        from swarm_sim.runner import ENGINE_ENV, resolve_engine
+
+        # the workers (local processes, a local Dask cluster) inherit it; same results either way
+        os.environ[ENGINE_ENV] = resolve_engine(args.engine)
     spec = build_spec(args)
     if args.dry_run:
         import os
@@ -231,6 +238,8 @@ def register(sub, common) -> None:
     p.add_argument("--batch", type=int, default=None,
                    help="runs handed to a worker per task (default 4: one round trip per batch; Ctrl-C "
                         "loses at most the unfinished batches)")
+    p.add_argument("--engine", default=None,
+                   help="compiled | reference (default: compiled when numba is installed; the same results)")
     p.add_argument("--resume", action="store_true", help="complete the sweep already in --db")
     p.add_argument("--retry-errors", action="store_true", help="with --resume: re-run runs that raised")
     p.add_argument("--dry-run", action="store_true",

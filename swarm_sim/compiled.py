@@ -1,0 +1,772 @@
+"""The compiled engine: a numba fast-forward kernel that advances a run many steps at once
+while only *continuous* things happen, bit-identical to the reference :func:`swarm_sim.step.step`.
+
+:func:`fast_forward` looks at a state and, when its situation is one the kernel knows, runs
+:func:`_kernel` for up to ``S`` steps. Each kernel step is the reference step's
+arithmetic (same float operations, same order):
+
+* free robots walk: :func:`swarm_sim.explore._walk_kernel` itself, on a Verlet list from
+  :func:`swarm_sim.grid.verlet_update` (exact whatever its history), with the step's
+  random numbers (``rng.random((4, k))`` per step, pre-drawn as ``(S, 4, k)``: the same
+  stream);
+* the dispersal clocks count down;
+* the seed's alignment (turn, back off, creep to the edge), the structure's ``wait``, its
+  ``advance``/``back`` slide with the members placed at
+  their slots, or ``recruit``: every recruit drives along its cost-field path
+  (:func:`_goto`, :func:`_slide_off`, :func:`_drive_along`, :func:`_pose_ok1`,
+  :func:`_waypoint`, :func:`_cost_at` are njit ports of :mod:`swarm_sim.motion`,
+  :class:`swarm_sim.world.World` and :class:`swarm_sim.navigation.CostField`) with the
+  progress/stall bookkeeping;
+* the watchdog clock, the target check, the post-retreat wander clock, the time limit and
+  the lost-robot check (and, with ``check=True``, the per-robot invariants).
+
+A step in which anything *discrete* would happen (the seed is seen, a wait or slide ends,
+the far ledge is seen, a recruit docks or stalls, the watchdog fires, a target is found, a
+robot would be lost, an invariant could break, the time limit, ...) is computed into
+temporaries, not committed, and the kernel returns; the caller (``runner.simulate``) then
+runs that one step with the reference ``step()``. Threshold tests whose arithmetic is not
+literally the reference's (numpy vs scalar) stop *conservatively* (a small margin): a
+stop costs one reference step, never a difference. The random stream is rewound to where
+the reference would have left it (``bit_generator.state`` restored and the committed
+steps' numbers re-drawn).
+
+Three functions differ between Python and numba and are handled explicitly:
+``math.hypot`` (CPython computes its own correctly rounded norm, numba calls libm:
+:func:`_py_hypot` is CPython's ``vector_norm`` for two numbers), ``x ** 2`` on a Python
+float (libm ``pow``, not ``x * x``: :func:`_pose_ok1` calls ``math.pow`` with a run-time
+exponent so LLVM cannot fold it) and ``np.hypot`` (libm, the same as numba's ``math.hypot``).
+
+What is not fast-forwarded (always reference steps): idle steps
+(decisions), tapering-arch structures (shell, foot jobs), octagonal robots, runs with
+``use_numba=False``, ``on_step`` callbacks, and with ``check=True`` the structure's slides
+(the rule would have to be re-counted), the seed's alignment and any step after an invariant
+violation.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from .grid import HAVE_NUMBA, SKIN_CM, numba, workspace
+from .state import OPEN, WALKING_MODES, Mode, Phase
+
+_EXPLORE, _TARGET = int(Mode.EXPLORE), int(Mode.TARGET)
+_P_SEARCH, _P_BUILD, _P_DELIVERED, _P_WANDER = (int(Phase.SEARCH), int(Phase.BUILD), int(Phase.DELIVERED),
+                                                int(Phase.WANDER))
+_ENDED = (int(Phase.SUCCESS), int(Phase.RETREATED), int(Phase.TIMEOUT))
+_WALKING_LUT = np.zeros(len(Mode), dtype=bool)
+_WALKING_LUT[list(WALKING_MODES)] = True
+
+# structure kinds the kernel knows
+K_NONE, K_WAIT, K_SLIDE, K_RECRUIT, K_ALIGN = 0, 1, 2, 3, 4
+#: why the kernel stopped (index into STOP_REASONS)
+STOP_REASONS = ("batch", "seed", "verlet_grow", "wait_over", "slide_end", "far_ledge", "dock", "stalled_recruit",
+                "watchdog", "target", "wander_over", "time_limit", "lost", "invariant", "aligned")
+R_BATCH, R_SEED, R_GROW, R_WAIT, R_SLIDE_END, R_LEDGE, R_DOCK, R_RSTALL, R_WATCH, R_TARGET, R_WANDER, R_TIME, \
+    R_LOST, R_INV, R_ALIGNED = range(len(STOP_REASONS))
+
+#: conservative margin (cm) for threshold tests whose reference is numpy arithmetic (~200 ulps of a
+#: 3000 cm coordinate: far above a last-bit difference, far below the 1e-9 cm the edge tests allow)
+_MARGIN = 1e-10
+_MIN_BATCH, _MAX_BATCH = 256, 16384
+_MAX_DRAWS = 4_000_000  # random numbers pre-drawn per batch at most
+
+AVAILABLE = HAVE_NUMBA
+
+if HAVE_NUMBA:
+    from .explore import _walk_kernel, _wrap
+    from .grid import verlet_update
+
+    @numba.njit(cache=True, inline="always")
+    def _two_prod(x, y):  # pragma: no cover - compiled
+        """x * y as an exact (hi, lo) pair (Dekker / Veltkamp split)."""
+        z = x * y
+        c = 134217729.0 * x
+        hx = c - (c - x)
+        tx = x - hx
+        c = 134217729.0 * y
+        hy = c - (c - y)
+        ty = y - hy
+        zz = ((hx * hy - z) + hx * ty + tx * hy) + tx * ty
+        return z, zz
+
+    @numba.njit(cache=True)
+    def _py_hypot(a, b):  # pragma: no cover - compiled
+        """CPython 3.8+'s ``math.hypot(a, b)`` bit for bit (``vector_norm`` of Modules/mathmodule.c;
+        numba's math.hypot is libm's, which differs in the last bit for ~0.2 % of inputs)."""
+        a = abs(a)
+        b = abs(b)
+        if math.isnan(a) or math.isnan(b):
+            return math.inf if (math.isinf(a) or math.isinf(b)) else math.nan
+        mx = a if a > b else b
+        if math.isinf(mx) or mx == 0.0:
+            return mx
+        _, e = math.frexp(mx)
+        if e < -1023:  # subnormal inputs (never in the simulator): scale up first
+            return 2.2250738585072014e-308 * _py_hypot(a / 2.2250738585072014e-308, b / 2.2250738585072014e-308)
+        scale = math.ldexp(1.0, -e)
+        csum = 1.0
+        frac1 = 0.0
+        frac2 = 0.0
+        for v in (a, b):
+            v *= scale
+            hi, lo = _two_prod(v, v)
+            s = csum + hi
+            slo = (csum - s) + hi
+            csum = s
+            frac1 += lo
+            frac2 += slo
+        h = math.sqrt(csum - 1.0 + (frac1 + frac2))
+        hi, lo = _two_prod(-h, h)
+        s = csum + hi
+        slo = (csum - s) + hi
+        csum = s
+        frac1 += lo
+        frac2 += slo
+        v = csum - 1.0 + (frac1 + frac2)
+        h += v / (2.0 * h)
+        return h / scale
+
+    @numba.njit(cache=True)
+    def _pose_ok1(x, y, h, hl, hw, W, H, x0, x1, obs, r, two):  # pragma: no cover - compiled
+        """:meth:`World.pose_ok1` for the square body (``two`` = 2.0 at run time: Python's
+        ``v ** 2`` is libm's pow, which LLVM would fold into ``v * v`` for a constant)."""
+        c = abs(math.cos(h))
+        s = abs(math.sin(h))
+        ex = hl * c + hw * s
+        ey = hl * s + hw * c
+        if x - ex < 0 or x + ex > W or y - ey < 0 or y + ey > H:
+            return False
+        if x + ex > x0 + 1e-9 and x - ex < x1 - 1e-9:
+            return False
+        for k in range(obs.shape[0]):
+            if not (math.pow(x - obs[k, 0], two) + math.pow(y - obs[k, 1], two) > math.pow(obs[k, 2] + r, two)):
+                return False
+        return True
+
+    @numba.njit(cache=True, inline="always")
+    def _clip(d, tm):  # pragma: no cover - compiled
+        """Python's ``max(-tm, min(tm, d))``."""
+        v = d if d < tm else tm
+        return v if v > -tm else -tm
+
+    @numba.njit(cache=True)
+    def _slide_off(x, y, h, dist, hl, hw, W, H, x0, x1, obs, r, two):  # pragma: no cover - compiled
+        """:func:`swarm_sim.motion.slide_off`."""
+        mid = 0.5 * (x0 + x1)
+        sx = x - dist if x < mid else x + dist
+        if _pose_ok1(sx, y, h, hl, hw, W, H, x0, x1, obs, r, two):
+            return sx, y, h, False
+        return x, y, h, False
+
+    @numba.njit(cache=True)
+    def _goto(x, y, h, tx, ty, has_final, final_h, has_align, align_h, dist, tm,
+              hl, hw, W, H, x0, x1, obs, r, two):  # pragma: no cover - compiled
+        """:func:`swarm_sim.motion.goto` (``final_heading``/``align_h`` None <=> ``has_*`` False)."""
+        dx = tx - x
+        dy = ty - y
+        rr = _py_hypot(dx, dy)
+        if rr < 1e-9:
+            if not has_final:
+                return x, y, h, True
+            d = _wrap(final_h - h)
+            nh = h + _clip(d, tm)
+            return x, y, nh, abs(d) <= tm
+        want = math.atan2(dy, dx)
+        d = _wrap(want - h)
+        nh = h + _clip(d, tm)
+        if abs(d) > tm + 1e-12:
+            if _pose_ok1(x, y, nh, hl, hw, W, H, x0, x1, obs, r, two):
+                return x, y, nh, False
+            return _slide_off(x, y, h, dist, hl, hw, W, H, x0, x1, obs, r, two)
+        step = dist if dist < rr else rr  # Python's min(dist, r)
+        for off in (0.0, math.pi / 4, -math.pi / 4, math.pi / 2, -math.pi / 2):
+            a = want + off
+            nx = x + step * math.cos(a)
+            ny = y + step * math.sin(a)
+            if _pose_ok1(nx, ny, a, hl, hw, W, H, x0, x1, obs, r, two):
+                return nx, ny, a, False
+        if _pose_ok1(x, y, want, hl, hw, W, H, x0, x1, obs, r, two):
+            return x, y, want, False
+        n_h = 1
+        h_first = h
+        if has_align:
+            n_h = 2
+            h_first = h + _clip(_wrap(align_h - h), tm)
+        for q in range(n_h):
+            hh = h_first if q == 0 else h
+            nx = x + step * dx / rr
+            ny = y + step * dy / rr
+            if _pose_ok1(nx, ny, hh, hl, hw, W, H, x0, x1, obs, r, two):
+                return nx, ny, hh, False
+            if _pose_ok1(x, y, hh, hl, hw, W, H, x0, x1, obs, r, two) and hh != h:
+                return x, y, hh, False
+        return _slide_off(x, y, h, dist, hl, hw, W, H, x0, x1, obs, r, two)
+
+    @numba.njit(cache=True, inline="always")
+    def _cell_ij(x, y, cell, gnx, gny):  # pragma: no cover - compiled
+        i = min(gnx - 1, max(0, int(x // cell)))
+        j = min(gny - 1, max(0, int(y // cell)))
+        return i, j
+
+    @numba.njit(cache=True)
+    def _near(x, y, cost, cell, gnx, gny, window, gcx, gcy, blocked):  # pragma: no cover - compiled
+        """:meth:`CostField._near` (np.hypot is libm's hypot, as numba's math.hypot)."""
+        i, j = _cell_ij(x, y, cell, gnx, gny)
+        j0 = max(0, j - window)
+        j1 = min(gny, j + window + 1)
+        i0 = max(0, i - window)
+        i1 = min(gnx, i + window + 1)
+        best = math.inf
+        bi = -1
+        for jj in range(j0, j1):
+            for ii in range(i0, i1):
+                c = jj * gnx + ii
+                v = cost[c]
+                if v < blocked:
+                    v = v + math.hypot(x - gcx[c], y - gcy[c])
+                    if v < best:
+                        best = v
+                        bi = c
+        if bi < 0:
+            return math.inf, -1
+        return best, bi
+
+    @numba.njit(cache=True)
+    def _cost_at(x, y, cost, closed, cell, gnx, gny, window, gcx, gcy, blocked):  # pragma: no cover
+        """:meth:`CostField.cost_at`."""
+        i, j = _cell_ij(x, y, cell, gnx, gny)
+        c = j * gnx + i
+        v = cost[c]
+        if v < blocked:
+            return v + _py_hypot(x - gcx[c], y - gcy[c])
+        if not closed[c]:
+            return math.inf
+        best, _ = _near(x, y, cost, cell, gnx, gny, window, gcx, gcy, blocked)
+        return best
+
+    @numba.njit(cache=True)
+    def _waypoint(x, y, cost, nxt, closed, goal_cell, gx, gy, cell, gnx, gny, window, gcx, gcy, blocked,
+                  hops):  # pragma: no cover - compiled
+        """:meth:`CostField.waypoint`: (found, wx, wy); found False is ``None``."""
+        i, j = _cell_ij(x, y, cell, gnx, gny)
+        c = j * gnx + i
+        if cost[c] >= blocked:
+            if not closed[c]:
+                return False, 0.0, 0.0
+            _, c = _near(x, y, cost, cell, gnx, gny, window, gcx, gcy, blocked)
+            if c < 0:
+                return False, 0.0, 0.0
+            return True, gcx[c], gcy[c]
+        for _ in range(hops):
+            if c == goal_cell:
+                return True, gx, gy
+            c = nxt[c]
+            if c < 0:
+                return True, gx, gy
+        if c == goal_cell:
+            return True, gx, gy
+        return True, gcx[c], gcy[c]
+
+    @numba.njit(cache=True)
+    def _drive_along(x, y, h, final_h, align_h, cost, nxt, closed, goal_cell, gx, gy, cell, gnx, gny, window,
+                     gcx, gcy, blocked, hops, dist, tm, hl, hw, W, H, x0, x1, obs, r, two):  # pragma: no cover
+        """:func:`swarm_sim.motion.drive_along` (``align_h`` given, as the recruits call it)."""
+        if _py_hypot(x - gx, y - gy) < 1e-9:
+            _, _, nh, done = _goto(gx, gy, h, gx, gy, True, final_h, False, 0.0, dist, tm,
+                                   hl, hw, W, H, x0, x1, obs, r, two)
+            if done:
+                return gx, gy, final_h, True
+            return gx, gy, nh, False
+        found, wx, wy = _waypoint(x, y, cost, nxt, closed, goal_cell, gx, gy, cell, gnx, gny, window, gcx, gcy,
+                                  blocked, hops)
+        if not found:
+            wx = gx
+            wy = gy
+        at_goal = wx == gx and wy == gy
+        nx, ny, nh, _ = _goto(x, y, h, wx, wy, False, 0.0, at_goal, align_h, dist, tm,
+                              hl, hw, W, H, x0, x1, obs, r, two)
+        if at_goal and _py_hypot(nx - gx, ny - gy) < 1e-9:
+            nx = gx
+            ny = gy
+        return nx, ny, nh, False
+
+    @numba.njit(cache=True)
+    def _kernel(n_steps, t, dt, x, y, h, goal, run_left, disp, mode, carried, walkers, u, ws_k, ws_counts,
+                ws_fill, ws_bucket, ws_items, ws_sx, ws_sy, nbr_start, nbr_idx, xref, yref, valid,
+                wf, obs, obs_none, levy, flags, kind, sf, mem_ids, mem_slots, rec_ids, rec_f, rec_final,
+                f_cost, f_nxt, f_closed, f_goal_cell, grid_i, gcx, gcy):  # pragma: no cover - compiled
+        """Up to ``n_steps`` whole steps; returns (steps committed, stop reason, t, front_s, progress_s).
+
+        ``wf``: world/walk floats (see :func:`fast_forward`); ``flags``: (search phase, target
+        check, check invariants, retreating, landed, phase WANDER); ``sf``: structure floats;
+        ``rec_f`` (R, 7): per recruit dock x, y, goal x, y, best, since, -; ``rec_final`` (R,)."""
+        n = x.shape[0]
+        k = walkers.shape[0]
+        hl, hw, W, H, x0, x1, r, detect, avoid, dist, turn_max, mu, lmin, lmax, p_turn, turn_rad = (
+            wf[0], wf[1], wf[2], wf[3], wf[4], wf[5], wf[6], wf[7], wf[8], wf[9], wf[10], wf[11], wf[12],
+            wf[13], wf[14], wf[15])
+        tgx, tgy, tfound2, max_time, phase_since, wander_s, stall_s, two = (
+            wf[16], wf[17], wf[18], wf[19], wf[20], wf[21], wf[22], wf[23])
+        x0w = x0 if x0 < 1e300 else math.inf
+        x1w = x1 if x1 < 1e300 else math.inf
+        search, target_check, check, retreating, landed, wander = (flags[0], flags[1], flags[2], flags[3],
+                                                                   flags[4], flags[5])
+        wait_until, front, goal_s, sgn, speed, void_cm, L, Wr, ox, oy, ddx, ddy, lat_sign, mem_h, progress, \
+            recruit_stall, half_cell, dir_h, cell, blocked = (
+                sf[0], sf[1], sf[2], sf[3], sf[4], sf[5], sf[6], sf[7], sf[8], sf[9], sf[10], sf[11], sf[12],
+                sf[13], sf[14], sf[15], sf[16], sf[17], sf[18], sf[19])
+        k_row, lines, gnx, gny, window, hops = grid_i[0], grid_i[1], grid_i[2], grid_i[3], grid_i[4], grid_i[5]
+        nr = rec_ids.shape[0]
+        bx = np.empty(n)
+        by = np.empty(n)
+        bh = np.empty(n)
+        bg = np.empty(n)
+        br = np.empty(n)
+        straight = np.zeros(k, np.bool_)
+        nbest = np.empty(nr)
+        nsince = np.empty(nr)
+        nfinal = np.zeros(nr, np.bool_)
+        q4 = 0.5 * hw  # = 0.25 * width (World.void_ahead), exactly
+        sense = hl + q4 + detect + 1.0  # no ground sensor reaches farther from the centre (cm)
+        for j in range(n_steps):
+            tn = t + dt
+            # 1. detect_seed (search phase): an explorer's ground sensor sees the void
+            if search and x0 < 1e300:
+                for i in range(n):
+                    if mode[i] != _EXPLORE or x[i] + sense < x0 - _MARGIN or x[i] - sense > x1 + _MARGIN:
+                        continue  # (no sensor reaches the void band from here)
+                    c = math.cos(h[i])
+                    s = math.sin(h[i])
+                    reach = detect * c
+                    for lat in (0.0, q4, -q4):
+                        px = x[i] + hl * c - lat * s
+                        lo = min(px, px + reach)
+                        hi = max(px, px + reach)
+                        if hi > x0 - _MARGIN and lo < x1 + _MARGIN:
+                            return j, R_SEED, t, front, progress
+            # 2. walk_free (uncommitted until the end of the step)
+            for i in range(n):
+                bx[i] = x[i]
+                by[i] = y[i]
+                bh[i] = h[i]
+                bg[i] = goal[i]
+                br[i] = run_left[i]
+            if k:
+                m = verlet_update(bx, by, avoid + SKIN_CM, SKIN_CM, ws_k, ws_counts, ws_fill, ws_bucket, ws_items,
+                                  ws_sx, ws_sy, nbr_start, nbr_idx, xref, yref, valid)
+                if m == -1:
+                    return j, R_GROW, t, front, progress
+                for q in range(k):
+                    straight[q] = disp[walkers[q]] > 0
+                _walk_kernel(x, y, h, goal, run_left, walkers, straight, u[j], True, hl, hw, W, H, x0, x1, obs, r,
+                             detect, avoid, dist, turn_max, levy, mu, lmin, lmax, p_turn, turn_rad, bx, by,
+                             nbr_start, nbr_idx)
+            stop = R_BATCH
+            nfront = front
+            nprogress = progress
+            # 3. move_structure
+            if kind == K_WAIT:
+                if tn >= wait_until:
+                    stop = R_WAIT
+            elif kind == K_SLIDE:
+                f = front + sgn * speed * dt
+                if (f - goal_s) * sgn >= -1e-9:
+                    stop = R_SLIDE_END
+                else:
+                    nfront = f
+                    if not landed and nfront + detect >= void_cm - 1e-6:
+                        stop = R_LEDGE
+            elif kind == K_ALIGN:  # step._align: the seed turns perpendicular to the edge, creeps to it
+                s0 = mem_ids[0]
+                hx = x[s0]
+                hy = y[s0]
+                hh = h[s0]
+                d = _wrap(dir_h - hh)
+                if abs(d) > 1e-9:
+                    nh = hh + _clip(d, turn_max)
+                    if _pose_ok1(hx, hy, nh, hl, hw, W, H, x0w, x1w, obs, r, two):
+                        h[s0] = nh
+                    else:  # too close to the edge to turn: back away from it first
+                        x[s0] = hx - dist * ddx
+                        y[s0] = hy - dist * ddy
+                else:
+                    h[s0] = dir_h
+                    if (x0 - 0.5 * L) - hx > dist:
+                        x[s0] = hx + dist
+                    else:
+                        stop = R_ALIGNED
+            elif kind == K_RECRUIT:
+                arrived_all = True
+                for q in range(nr):
+                    ri = rec_ids[q]
+                    dxp = rec_f[q, 0]
+                    dyp = rec_f[q, 1]
+                    rx = x[ri]
+                    ry = y[ri]
+                    rh = h[ri]
+                    nbest[q] = rec_f[q, 4]
+                    nsince[q] = rec_f[q, 5]
+                    nfinal[q] = rec_final[q]
+                    if rx == dxp and ry == dyp and rh == dir_h:
+                        continue
+                    arrived_all = False
+                    if rec_final[q]:
+                        nx, ny, nh, arrived = _goto(rx, ry, rh, dxp, dyp, True, dir_h, True, dir_h, dist, turn_max,
+                                                    hl, hw, W, H, x0w, x1w, obs_none, r, two)
+                        if arrived and _py_hypot(nx - dxp, ny - dyp) < 1e-9:
+                            nx = dxp
+                            ny = dyp
+                            nh = dir_h
+                        left = _py_hypot(nx - dxp, ny - dyp)
+                    else:
+                        ax = rec_f[q, 2]
+                        ay = rec_f[q, 3]
+                        if _py_hypot(dxp - ax, dyp - ay) < 1e-9:
+                            in_h = dir_h
+                        else:
+                            in_h = math.atan2(dyp - ay, dxp - ax)
+                        nx, ny, nh, fin = _drive_along(rx, ry, rh, in_h, in_h, f_cost[q], f_nxt[q], f_closed[q],
+                                                       f_goal_cell[q], ax, ay, cell, gnx, gny, window, gcx, gcy,
+                                                       blocked, hops, dist, turn_max, hl, hw, W, H, x0w, x1w, obs,
+                                                       r, two)
+                        nfinal[q] = fin
+                        left = _cost_at(nx, ny, f_cost[q], f_closed[q], cell, gnx, gny, window, gcx, gcy,
+                                        blocked) + _py_hypot(ax - dxp, ay - dyp)
+                    x[ri] = nx  # undone from the snapshot if the step is not committed
+                    y[ri] = ny
+                    h[ri] = nh
+                    if left < nbest[q] - half_cell:
+                        nbest[q] = left
+                        nsince[q] = tn
+                        nprogress = tn
+                    elif tn - nsince[q] > recruit_stall:
+                        stop = R_RSTALL
+                if arrived_all:
+                    stop = R_DOCK
+            # 5. watch: the watchdog
+            if stop == R_BATCH and kind != K_NONE and kind != K_ALIGN and not retreating and \
+                    not (tn - nprogress <= stall_s):
+                stop = R_WATCH
+            # 6. finish: target, wander, time limit
+            if stop == R_BATCH and target_check:
+                for i in range(n):
+                    if mode[i] == _TARGET:
+                        d2 = (x[i] - tgx) * (x[i] - tgx) + (y[i] - tgy) * (y[i] - tgy)
+                        if d2 <= tfound2 * (1.0 + 1e-9) + _MARGIN:
+                            stop = R_TARGET
+                            break
+            if stop == R_BATCH and wander and tn - phase_since >= wander_s - 1e-9:
+                stop = R_WANDER
+            if stop == R_BATCH and tn >= max_time - 1e-9:
+                stop = R_TIME
+            # the lost-robot check (runner) and, with check, the per-robot invariants
+            if stop == R_BATCH:
+                for i in range(n):
+                    if carried[i]:
+                        continue
+                    xi = x[i]
+                    yi = y[i]
+                    if (xi + r < x0 - _MARGIN or xi - r > x1 + _MARGIN) and (
+                            not check or (xi - r > _MARGIN and xi + r < W - _MARGIN and yi - r > _MARGIN
+                                          and yi + r < H - _MARGIN and math.isfinite(xi) and math.isfinite(yi))):
+                        continue  # the body (within r of its centre) is far from the void and the walls
+                    c = abs(math.cos(h[i]))
+                    s = abs(math.sin(h[i]))
+                    ex = hl * c + hw * s
+                    if xi + ex > x0 + 1e-9 - _MARGIN and xi - ex < x1 - 1e-9 + _MARGIN:
+                        stop = R_LOST
+                        break
+                    if check:
+                        ey = hl * s + hw * c
+                        if not (math.isfinite(xi) and math.isfinite(yi)) or xi - ex < -1e-6 + _MARGIN or \
+                                xi + ex > W + 1e-6 - _MARGIN or yi - ey < -1e-6 + _MARGIN or \
+                                yi + ey > H + 1e-6 - _MARGIN:
+                            stop = R_INV
+                            break
+            if stop != R_BATCH:  # not committed: undo the walk, the reference step does this one
+                for i in range(n):
+                    x[i] = bx[i]
+                    y[i] = by[i]
+                    h[i] = bh[i]
+                    goal[i] = bg[i]
+                    run_left[i] = br[i]
+                return j, stop, t, front, progress
+            # commit
+            for i in range(n):
+                v = disp[i] - dt
+                disp[i] = v if v > 0.0 else 0.0
+            if kind == K_SLIDE:
+                front = nfront
+                for q in range(mem_ids.shape[0]):
+                    mi = mem_ids[q]
+                    m = mem_slots[q]
+                    if k_row == 1:
+                        s_ = front - (m + 0.5) * L
+                        x[mi] = ox + s_ * ddx
+                        y[mi] = oy + s_ * ddy
+                    else:
+                        s_ = front - (m // k_row + 0.5) * L
+                        lat = ((m % k_row) % lines) * Wr * lat_sign
+                        x[mi] = ox + s_ * ddx - lat * ddy
+                        y[mi] = oy + s_ * ddy + lat * ddx
+                    h[mi] = mem_h
+            elif kind == K_RECRUIT:
+                for q in range(nr):
+                    rec_f[q, 4] = nbest[q]
+                    rec_f[q, 5] = nsince[q]
+                    rec_final[q] = nfinal[q]
+            progress = nprogress
+            t = tn
+        return n_steps, R_BATCH, t, front, progress
+
+
+def _drop_stale_cache() -> None:
+    """numba's cache (``cache=True``) checks only the source file of the cached function, not the
+    njit functions it calls in other modules (``explore._walk_kernel``, ``grid.verlet_update``):
+    after an edit there this module's cached kernels would keep the old code. So their cache
+    files are dropped (and recompiled on first use) whenever those sources change."""
+    import hashlib
+    import os
+
+    from . import explore, grid
+
+    path = getattr(getattr(_kernel, "_cache", None), "_cache_path", None)
+    if not path or not os.path.isdir(path):
+        return
+    digest = hashlib.sha1()
+    for mod in (explore, grid):
+        with open(mod.__file__, "rb") as fh:
+            digest.update(fh.read())
+    stamp = os.path.join(path, "compiled.deps-sha1")
+    try:
+        with open(stamp, encoding="ascii") as fh:
+            if fh.read().strip() == digest.hexdigest():
+                return
+    except OSError:
+        pass
+    try:
+        for name in os.listdir(path):
+            if name.startswith("compiled.") and name.endswith((".nbi", ".nbc")):
+                os.remove(os.path.join(path, name))
+        with open(stamp, "w", encoding="ascii") as fh:
+            fh.write(digest.hexdigest())
+    except OSError:  # a read-only or shared cache: numba still works (and recompiles if it must)
+        pass
+
+
+if HAVE_NUMBA:
+    _drop_stale_cache()
+
+
+def _kind(state, p, check: bool) -> int | None:
+    """The structure kind the kernel can advance in this state, or None (reference step)."""
+    st = state.structure
+    if st is None:
+        return K_NONE if state.phase in (_P_SEARCH, _P_DELIVERED, _P_WANDER) else None
+    if state.phase != _P_BUILD or st.shell or st.job:
+        return None
+    if (p.switch_levels[st.level][6] if p.switch_levels else p.taper_block_rows):  # a tapering arch
+        return None
+    if st.action == "align":
+        return K_ALIGN if (st.members and not check) else None
+    if st.action == "wait":
+        return K_WAIT if st.members else None
+    if st.action in ("advance", "back"):
+        return None if check else K_SLIDE
+    if st.action == "recruit" and st.recruits:
+        return K_RECRUIT
+    return None
+
+
+_CONTEXTS: dict = {}
+_STACKS: dict = {}
+
+
+def _context(p, world) -> tuple:
+    """What a run's kernel calls share (cached per (params, world) objects): the world/walk
+    floats (``wf``; index 20, the phase start, is set per call), the navigation grid and an
+    empty obstacle table."""
+    key = (id(p), id(world))
+    hit = _CONTEXTS.get(key)
+    if hit is not None and hit[0] is p and hit[1] is world:
+        return hit[2]
+    from .navigation import nav_grid
+
+    x0 = world.x0_cm if np.isfinite(world.x0_cm) else 1e308
+    x1 = world.x1_cm if np.isfinite(world.x1_cm) else 1e308
+    wf = np.array([0.5 * world.length_cm, 0.5 * world.width_cm, world.w_cm, world.h_cm, x0, x1,
+                   world.body_radius_cm, world.detect_cm, world.avoid_cm, p.speed_cm_s * p.dt_s, p.turn_max_rad,
+                   p.levy_mu, p.levy_min_cm, p.levy_max_cm, p.random_turn_prob, p.random_turn_rad,
+                   world.target_x_cm, world.target_y_cm, world.target_found_cm ** 2, p.max_time_s,
+                   0.0, p.wander_after_retreat_s, p.stall_s, 2.0])
+    out = (wf, nav_grid(world), np.zeros((0, 3)))
+    if len(_CONTEXTS) > 16:
+        _CONTEXTS.clear()
+    _CONTEXTS[key] = (p, world, out)
+    return out
+
+
+def _stacked(fields: list) -> tuple:
+    """The recruits' cost fields as (R, cells) arrays (cached while the same fields are in use)."""
+    key = tuple(id(f) for f in fields)
+    hit = _STACKS.get(key)
+    if hit is not None and all(a is b for a, b in zip(hit[0], fields, strict=True)):
+        return hit[1]
+    out = (np.stack([f.cost for f in fields]), np.stack([f.nxt for f in fields]),
+           np.stack([f.closed for f in fields]), np.array([f.goal_cell for f in fields], dtype=np.int64))
+    if len(_STACKS) > 8:
+        _STACKS.clear()
+    _STACKS[key] = (list(fields), out)
+    return out
+
+
+def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False, max_steps: int | None = None,
+                 stats: dict | None = None):
+    """Advance ``state`` by as many whole reference-identical steps as the kernel can (0 when it
+    cannot do the next one); returns (new state, steps advanced). The caller runs the next
+    step with :func:`swarm_sim.step.step`. ``stats`` (optional dict) counts kernel calls,
+    steps and stop reasons."""
+    if not AVAILABLE or world.shape != "square" or state.phase in _ENDED:
+        return state, 0
+    kind = _kind(state, p, check)
+    if kind is None:
+        return state, 0
+    from .navigation import _HOPS, BLOCKED
+    from .recruitment import slot_field
+
+    st = state.structure
+    n = state.n
+    mode = state.mode
+    walking = _WALKING_LUT[mode]
+    if state.phase != _P_SEARCH and p.case in ("A", "B"):
+        walking &= mode != _EXPLORE
+    walkers = np.flatnonzero(walking).astype(np.int64)
+    k = walkers.size
+    carried = np.zeros(n, dtype=np.bool_)
+    mem_ids = np.zeros(0, np.int64)
+    mem_slots = np.zeros(0, np.int64)
+    if st is not None:
+        mem = np.asarray(st.members, dtype=np.int64)
+        mem_slots = np.flatnonzero(mem != OPEN).astype(np.int64)
+        mem_ids = mem[mem_slots]
+        carried[mem_ids] = True
+    L, Wr = p.robot_length_cm, p.robot_width_cm
+    wf0, grid, obs_none = _context(p, world)
+    wf = wf0.copy()
+    wf[20] = state.phase_since_s
+    target_check = state.phase in (_P_BUILD, _P_DELIVERED) and state.target_finder < 0
+    if state.target_finder >= 0 and state.phase in (_P_BUILD, _P_DELIVERED) and (
+            not p.finish_delivery or state.phase == _P_DELIVERED):
+        return state, 0  # the run succeeds in the next step
+    flags = np.array([state.phase == _P_SEARCH, target_check, check, bool(st is not None and st.retreating),
+                      bool(st is not None and st.landed), state.phase == _P_WANDER], dtype=np.bool_)
+    rec_ids = np.zeros(0, np.int64)
+    rec_f = np.zeros((0, 7))
+    rec_final = np.zeros(0, np.bool_)
+    f_cost = np.zeros((0, 1))
+    f_nxt = np.zeros((0, 1), np.int64)
+    f_closed = np.zeros((0, 1), np.bool_)
+    f_goal = np.zeros(0, np.int64)
+    sf = np.zeros(20)
+    if st is not None:
+        dir_h = math.atan2(st.dir_y, st.dir_x)
+        k_row = st.lines * st.layers
+        mem_h = dir_h if k_row == 1 else float(np.arctan2(st.dir_y, st.dir_x))
+        sgn = 1.0 if st.action == "advance" else -1.0
+        sf[:] = (st.wait_until_s, st.front_s_cm, st.goal_s_cm, sgn, p.speed_cm_s, p.void_width_cm, L, Wr,
+                 st.origin_x_cm, st.origin_y_cm, st.dir_x, st.dir_y, st.lateral_sign, mem_h, st.progress_s,
+                 p.recruit_stall_s, 0.5 * grid.cell_cm, dir_h, grid.cell_cm, BLOCKED)
+        grid_i = np.array([k_row, st.lines, grid.nx, grid.ny, grid.window, _HOPS], dtype=np.int64)
+        if kind == K_RECRUIT:
+            fields = [slot_field(st, p, world, slot) for slot in st.recruit_slots]
+            rec_ids = np.asarray(st.recruits, dtype=np.int64)
+            rec_f = np.array([[dxp, dyp, f.goal_x, f.goal_y, b, s_, 0.0] for (f, dxp, dyp), b, s_ in
+                              zip(fields, st.recruit_best_cm, st.recruit_progress_s, strict=True)], dtype=np.float64)
+            rec_final = np.asarray(st.recruit_final, dtype=np.bool_)
+            f_cost, f_nxt, f_closed, f_goal = _stacked([f for f, _, _ in fields])
+            if carried[rec_ids].any():
+                return state, 0
+    else:
+        grid_i = np.array([1, 1, grid.nx, grid.ny, grid.window, _HOPS], dtype=np.int64)
+    ws = workspace(n)
+    x, y, h = state.x_cm.copy(), state.y_cm.copy(), state.heading_rad.copy()
+    goal, run_left, disp = state.goal_heading_rad.copy(), state.run_left_cm.copy(), state.disperse_left_s.copy()
+    t, front, progress = state.t_s, sf[1], sf[14]
+    total = 0
+    limit = max_steps if max_steps is not None else 1 << 62
+    # steps until something known ends (the kernel stops there): pre-draw no more than that
+    dt = p.dt_s
+    horizon = (p.max_time_s - state.t_s) / dt
+    if kind == K_WAIT:
+        horizon = min(horizon, (st.wait_until_s - state.t_s) / dt)
+    elif kind == K_SLIDE:
+        horizon = min(horizon, abs(st.goal_s_cm - st.front_s_cm) / (p.speed_cm_s * dt))
+    if state.phase == _P_WANDER:
+        horizon = min(horizon, (state.phase_since_s + p.wander_after_retreat_s - state.t_s) / dt)
+    guess = _MIN_BATCH
+    if kind == K_RECRUIT:  # a recruit drives at most one step's length per step: its remaining path
+        left = 0.0
+        for (f, dxp, dyp), r in zip(fields, st.recruits, strict=True):
+            c = f.cost_at(float(state.x_cm[r]), float(state.y_cm[r])) + math.hypot(f.goal_x - dxp, f.goal_y - dyp)
+            left = max(left, c if math.isfinite(c) else 0.0)
+        guess = int(1.2 * left / (p.speed_cm_s * dt)) + 64
+    batch = int(min(_MAX_BATCH, max(1.0, horizon + 2.0))) if horizon < guess else min(guess, _MAX_BATCH)
+    reason = R_BATCH
+    bg = rng.bit_generator
+    # PCG64 (default_rng) rewinds by jumping: one 64-bit draw per double (no buffered 32-bit draw used)
+    jump = type(bg) is np.random.PCG64
+    u_none = np.zeros((batch, 4, 0))
+    while total < limit:
+        S = int(min(batch, limit - total, max(1, _MAX_DRAWS // max(1, 4 * k))))
+        if k:
+            saved = bg.state
+            u = rng.random((S, 4, k))
+        else:
+            u = u_none if u_none.shape[0] >= S else np.zeros((S, 4, 0))
+        j, reason, t, front, progress = _kernel(
+            S, t, p.dt_s, x, y, h, goal, run_left, disp, mode, carried, walkers, u, *ws[:7], *ws[7:], wf,
+            world.obstacles, obs_none, p.walk == "levy", flags, kind, sf, mem_ids, mem_slots, rec_ids,
+            rec_f, rec_final, f_cost, f_nxt, f_closed, f_goal, grid_i, grid.cx, grid.cy)
+        total += j
+        if stats is not None:
+            stats["kernel_calls"] = stats.get("kernel_calls", 0) + 1
+            why = STOP_REASONS[reason]
+            stops = stats.setdefault("stops", {})
+            stops[why] = stops.get(why, 0) + 1
+        if j < S and k:  # rewind the stream to the end of the last committed step
+            bg.state = saved
+            if j:
+                if jump and not saved["has_uint32"]:
+                    bg.advance(j * 4 * k)
+                else:
+                    rng.random((j, 4, k))
+        if reason != R_BATCH:
+            break
+        sf[1], sf[14] = front, progress
+        batch = min(2 * batch, _MAX_BATCH)
+    if stats is not None:
+        stats["kernel_steps"] = stats.get("kernel_steps", 0) + total
+    if total == 0:
+        return state, 0
+    new_st = st
+    if st is not None:
+        if kind == K_SLIDE:
+            new_st = replace(st, front_s_cm=float(front))
+        elif kind == K_RECRUIT:
+            best = tuple(float(v) for v in rec_f[:, 4])
+            since = tuple(float(v) for v in rec_f[:, 5])
+            final = tuple(bool(v) for v in rec_final)
+            if (best, since, final) != (st.recruit_best_cm, st.recruit_progress_s, st.recruit_final):
+                new_st = replace(st, recruit_best_cm=best, recruit_progress_s=since, recruit_final=final)
+        if float(progress) != new_st.progress_s:
+            new_st = replace(new_st, progress_s=float(progress))
+    new = replace(state, x_cm=x, y_cm=y, heading_rad=h, goal_heading_rad=goal, run_left_cm=run_left,
+                  disperse_left_s=disp, t_s=float(t), step=state.step + total, structure=new_st)
+    return new, total
+
+
+__all__ = ["AVAILABLE", "STOP_REASONS", "fast_forward"]
