@@ -21,6 +21,7 @@ STAGES = (
     ("cad", "CAD export and mass properties", "voidcross.commands.cad"),
     ("fem", "structure study and selection table", "voidcross.commands.fem"),
     ("sim", "swarm simulations (small sweep)", "voidcross.commands.sweep"),
+    ("thesis", "the thesis's Chapter 4 experiments (1 run per cell)", "voidcross.commands.reproduce"),
     ("report", "report", "voidcross.commands.report"),
 )
 

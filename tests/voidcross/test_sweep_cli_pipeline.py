@@ -81,3 +81,28 @@ def test_pipeline_points_follow_the_limits(tmp_path):
     path = tmp_path / "limits.json"
     replace(lim, levels=(line, *lim.levels[1:])).save(path)
     assert sweep.pipeline_points(str(path)) == ((3, 1), (4, 1), (6, 2), (7, 2))
+
+
+def test_the_thesis_stage_fills_every_thesis_table_of_the_demo_report(tmp_path, monkeypatch):
+    """`make demo` runs Chapter 4 at one run per cell into the pipeline's database, so the report
+    has ours beside the thesis's in all of Tables 4.4-4.9, not only case D's."""
+    from voidcross.commands import report, reproduce, sweep
+
+    monkeypatch.setattr(sweep, "PIPELINE_RUN_FN", SYNTH)
+    monkeypatch.setattr(reproduce, "PIPELINE_RUN_FN", SYNTH)
+    ctx: dict = {"limits": "thesis"}
+    sweep.pipeline_stage(tmp_path / "sim", ctx)
+    db = ctx["db"]
+    line = reproduce.pipeline_stage(tmp_path / "thesis", ctx)
+    assert ctx["db"] == db and "(A 20, B 30, C 80, D " in line and "(3 beyond the grid's largest swarm)" in line
+    con = sqlite3.connect(db)
+    n = dict(con.execute("SELECT preset, COUNT(*) FROM runs WHERE limits='thesis' GROUP BY preset").fetchall())
+    assert n["case-a"] == 20 and n["case-b"] == 30 and n["case-c"] == 80 and n["case-d"] >= 105
+    reproduce.pipeline_stage(tmp_path / "thesis", ctx)  # resumes: nothing runs twice
+    assert con.execute("SELECT COUNT(*) FROM runs").fetchone()[0] == sum(n.values())
+    con.close()
+    report.pipeline_stage(tmp_path / "report", ctx)
+    md = (tmp_path / "report" / "report.md").read_text()
+    for t in ("4.4", "4.5", "4.6", "4.7", "4.8", "4.9"):
+        assert f"thesis_table_{t.replace('.', '_')}_ratio.png" in md or t in ("4.5", "4.8"), t
+    assert "no case-a runs" not in md and "no case-b runs" not in md

@@ -39,5 +39,5 @@ def register(sub, common) -> None:
                "  voidcross pipeline --json",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default="results/pipeline", help="output directory (default: results/pipeline)")
-    p.add_argument("--stages", default=None, help="comma-separated subset of: cad,fem,sim,report")
+    p.add_argument("--stages", default=None, help="comma-separated subset of: cad,fem,sim,thesis,report")
     p.set_defaults(func=run)

@@ -90,7 +90,7 @@ def _selected(chapter: str, cases: str | None) -> list[tuple]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from swarm_sim.sweeps import ResultStore, SweepSpec, prepare_sweep
+    from swarm_sim.sweeps import SweepSpec, prepare_sweep
 
     from .sweep import execute_plan
 
@@ -141,23 +141,7 @@ def run(args: argparse.Namespace) -> int:
             interrupted = True
             break
     wall = time.perf_counter() - t0
-    # the boundaries, per case and width, from the database (this and earlier invocations)
-    cases: dict = {}
-    with ResultStore.open_readonly(db) as store:
-        for chapter, case, preset, robots, widths, _runs in exps:
-            cells: dict = {}
-            for r in store.iter_runs("WHERE status='ok' AND preset=?", (preset,)):
-                if r["limits"] != args.limits:
-                    continue
-                cells.setdefault((int(r["robots"]), int(r["void_width"])), []).append(bool(r["success"]))
-            c = cases.setdefault(case, {"preset": preset, "chapter": chapter, "cells": 0, "runs": 0, "by_width": {}})
-            c["cells"] += len(robots) * len(widths)
-            c["runs"] += sum(len(v) for k, v in cells.items() if k[0] in robots and k[1] in widths)
-            for w in widths:
-                b = observed_boundary({k: v for k, v in cells.items() if k[0] in robots and k[1] == w}, w)
-                b["thesis"] = thesis_boundary(case, w, preset)
-                b["matches"] = b["thesis"] is not None and b["observed"] == b["thesis"] and b["below_all_retreat"]
-                c["by_width"][str(w)] = b
+    cases = boundaries(db, exps, args.limits)
     report = None
     if not interrupted and not args.no_report:
         from ..report.build import build_report
@@ -184,6 +168,67 @@ def run(args: argparse.Namespace) -> int:
         return 130
     emit(args, payload, "\n".join(lines))
     return 0
+
+
+def boundaries(db, exps, limits: str) -> dict:
+    """Per case and width, from the database (this and earlier invocations): the smallest swarm
+    of the grid that crossed in every run, against the thesis's (:func:`thesis_boundary`)."""
+    from swarm_sim.sweeps import ResultStore
+
+    cases: dict = {}
+    with ResultStore.open_readonly(db) as store:
+        for chapter, case, preset, robots, widths, _runs in exps:
+            cells: dict = {}
+            for r in store.iter_runs("WHERE status='ok' AND preset=?", (preset,)):
+                if r["limits"] != limits:
+                    continue
+                cells.setdefault((int(r["robots"]), int(r["void_width"])), []).append(bool(r["success"]))
+            c = cases.setdefault(case, {"preset": preset, "chapter": chapter, "cells": 0, "runs": 0, "by_width": {}})
+            c["cells"] += len(robots) * len(widths)
+            c["runs"] += sum(len(v) for k, v in cells.items() if k[0] in robots and k[1] in widths)
+            for w in widths:
+                b = observed_boundary({k: v for k, v in cells.items() if k[0] in robots and k[1] == w}, w)
+                b["thesis"] = thesis_boundary(case, w, preset)
+                b["matches"] = b["thesis"] is not None and b["observed"] == b["thesis"] and b["below_all_retreat"]
+                c["by_width"][str(w)] = b
+    return cases
+
+
+#: ``make demo``'s reproduction (the pipeline's ``thesis`` stage): Chapter 4 at this many runs
+#: per cell with the thesis's limits, so the demo report fills Tables 4.4-4.9
+PIPELINE_RUNS = 1
+PIPELINE_RUN_FN = None  # None: the simulator (tests substitute the synthetic run function)
+
+
+def pipeline_stage(out, ctx: dict) -> str:
+    """Chapter 4's four cases, :data:`PIPELINE_RUNS` run(s) per cell, thesis limits, into the
+    pipeline's database (``ctx["db"]``, else ``out/reproduce.sqlite``); resumes like the command."""
+    from pathlib import Path
+
+    from swarm_sim.sweeps import SweepSpec, prepare_sweep
+
+    from .sweep import execute_plan
+
+    exps = _selected("4", None)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    db = Path(ctx.get("db") or out / "reproduce.sqlite")
+    t0 = time.perf_counter()
+    for chapter, case, preset, robots, widths, _runs in exps:
+        spec = SweepSpec(preset, tuple(robots), tuple(widths), runs=PIPELINE_RUNS, limits="thesis")
+        plan = prepare_sweep(spec, db, resume=True, run_fn=PIPELINE_RUN_FN)
+        s = execute_plan(plan, "local", None, None, desc=f"Ch. {chapter} case {case}")
+        if s.interrupted:
+            raise KeyboardInterrupt
+    ctx["db"] = str(db)
+    cases = boundaries(db, exps, "thesis")
+    largest = {case: max(robots) for _ch, case, _p, robots, _w, _r in exps}
+    widths = [(case, b) for case, c in cases.items() for b in c["by_width"].values() if b["thesis"] is not None]
+    beyond = sum(1 for case, b in widths if b["thesis"] > largest[case])
+    runs = ", ".join(f"{k} {c['runs']}" for k, c in cases.items())
+    return (f"the thesis's Chapter 4 grid, {PIPELINE_RUNS} run(s) per cell, thesis limits ({runs} runs) in "
+            f"{time.perf_counter() - t0:.0f} s: crossing boundary as the thesis's at "
+            f"{sum(b['matches'] for _c, b in widths)}/{len(widths)} widths ({beyond} beyond the grid's largest swarm)")
 
 
 def register(sub, common) -> None:
