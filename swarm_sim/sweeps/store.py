@@ -20,6 +20,7 @@ import socket
 import sqlite3
 import time
 from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -213,17 +214,27 @@ class ResultStore:
             "SELECT sweep_id, created_utc, spec_json, limits_digest, runs_planned FROM sweeps ORDER BY created_utc")
         return [SweepRecord(r[0], r[1], json.loads(r[2]), r[3], r[4]) for r in rows]
 
-    def add_sweep(self, sweep_id: str, spec: dict, limits_digest: str, runs_planned: int) -> None:
+    @contextmanager
+    def _immediate(self):
+        """One write transaction (``BEGIN IMMEDIATE`` ... ``COMMIT``), rolled back on any exception
+        while it is open. An interrupt (Ctrl-C) that lands just after the COMMIT leaves nothing to
+        roll back: the interrupt itself propagates, never a "no transaction is active" error in
+        its place (the row is stored, and the sweep reports the interruption)."""
         self.con.execute("BEGIN IMMEDIATE")
         try:
+            yield
+            self.con.execute("COMMIT")
+        except BaseException:
+            if self.con.in_transaction:
+                self.con.execute("ROLLBACK")
+            raise
+
+    def add_sweep(self, sweep_id: str, spec: dict, limits_digest: str, runs_planned: int) -> None:
+        with self._immediate():
             self.con.execute(
                 "INSERT OR IGNORE INTO sweeps (sweep_id, created_utc, spec_json, limits_digest, runs_planned) "
                 "VALUES (?, ?, ?, ?, ?)",
                 (sweep_id, utc_now(), json.dumps(spec, sort_keys=True), limits_digest, runs_planned))
-            self.con.execute("COMMIT")
-        except BaseException:
-            self.con.execute("ROLLBACK")
-            raise
 
     # ------------------------------------------------------------------ runs
     def existing_keys(self, preset: str | None = None) -> dict[tuple[str, str, int], str]:
@@ -234,16 +245,11 @@ class ResultStore:
 
     def delete_errors(self, keys: Iterable[tuple[str, str, int]]) -> int:
         keys = list(keys)
-        self.con.execute("BEGIN IMMEDIATE")
-        try:
-            n = 0
+        n = 0
+        with self._immediate():
             for k in keys:
                 n += self.con.execute(
                     "DELETE FROM runs WHERE preset=? AND param_hash=? AND seed=? AND status='error'", k).rowcount
-            self.con.execute("COMMIT")
-        except BaseException:
-            self.con.execute("ROLLBACK")
-            raise
         return n
 
     def insert_run(self, row: dict) -> bool:
@@ -251,13 +257,8 @@ class ResultStore:
         values = [row.get(c) for c in RUN_COLUMNS]
         sql = (f"INSERT INTO runs ({', '.join(RUN_COLUMNS)}) VALUES ({', '.join('?' * len(RUN_COLUMNS))}) "
                "ON CONFLICT (preset, param_hash, seed) DO NOTHING")
-        self.con.execute("BEGIN IMMEDIATE")
-        try:
+        with self._immediate():
             cur = self.con.execute(sql, values)
-            self.con.execute("COMMIT")
-        except BaseException:
-            self.con.execute("ROLLBACK")
-            raise
         return cur.rowcount == 1
 
     def iter_runs(self, where: str = "", params: tuple = ()) -> Iterator[dict]:

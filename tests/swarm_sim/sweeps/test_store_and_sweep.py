@@ -236,3 +236,29 @@ def test_workers_get_runs_in_batches_and_every_run_comes_back_once(tmp_path, mon
     assert all(o["status"] == "ok" and o["result"]["seed"] == k["seed"] for k, o in out)
     with pytest.raises(InputError, match="--batch 0"):
         E.LocalExecutor(workers=1, batch=0)
+
+
+def test_ctrl_c_just_after_a_commit_is_the_interrupt_not_a_rollback_error(tmp_path):
+    """A Ctrl-C that lands between COMMIT and the end of the write used to try a ROLLBACK with no
+    transaction open, and the sweep ended with "internal failure: cannot rollback" (exit 1)
+    instead of "interrupted" (130). The run written is kept."""
+    run_sweep(SweepSpec("case-d", (3,), (1,), runs=1, limits="thesis"), tmp_path / "k.sqlite", run_fn=SYNTH)
+    st = ResultStore.open(tmp_path / "k.sqlite")
+    real = st.con
+
+    class InterruptAfterCommit:
+        in_transaction = property(lambda self: real.in_transaction)
+
+        def execute(self, sql, *a):
+            cur = real.execute(sql, *a)
+            if sql == "COMMIT":
+                raise KeyboardInterrupt
+            return cur
+
+    st.con = InterruptAfterCommit()
+    row = {**next(iter(st.iter_runs())), "seed": 999}
+    with pytest.raises(KeyboardInterrupt):
+        st.insert_run(row)
+    st.con = real
+    assert any(r["seed"] == 999 for r in st.iter_runs())
+    st.close()
