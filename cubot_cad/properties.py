@@ -36,15 +36,63 @@ def _finite(x: float) -> bool:
     return isinstance(x, (int, float)) and math.isfinite(x)
 
 
+#: Axes of a feature's play in the joint's planar frame: ``x`` along the structure (for a
+#: front-rear coupling: along the pins), ``z`` vertical.
+PLAY_AXES = ("x", "z")
+#: ``both``: free by ``play_m`` either way from the docked position (a pin centred in its
+#: hole); ``tension``: free by ``play_m`` only when the coupling opens (+x: the robots pull
+#: apart; +z: the upper robot lifts off), in the other sense the faces already touch
+#: (compression-only contact without a gap).
+PLAY_SENSES = ("both", "tension")
+#: Provenance of a record written before connectors carried one.
+LEGACY_PROVENANCE = "hand formula (legacy record)"
+#: Allowed provenance prefixes: a documented hand formula, a finite-element result, a user's
+#: measurement (followed by ``: <what>``), or the legacy marker above.
+PROVENANCE_PREFIXES = ("hand formula", "fe:", "measured:")
+
+
+@dataclass(frozen=True)
+class FeaturePlay:
+    """Kinematic play of one feature of a coupling, from the CAD's clearances (SI).
+
+    ``feature``: short name (``tension``, ``vertical_slip``, ``key_slip``, ...); ``axis`` and
+    ``sense`` (:data:`PLAY_AXES`, :data:`PLAY_SENSES`) say where it acts; ``play_m``: the free
+    travel before the feature bears (per side for ``both``); ``cad_feature``: which clearances
+    of the CAD it is the sum of.
+    """
+
+    feature: str
+    axis: str
+    sense: str
+    play_m: float
+    cad_feature: str
+
+    def __post_init__(self) -> None:
+        require(bool(self.feature), "feature play needs a feature name")
+        require(self.axis in PLAY_AXES, f"play {self.feature!r}: axis {self.axis!r} is not one of {PLAY_AXES}")
+        require(self.sense in PLAY_SENSES,
+                f"play {self.feature!r}: sense {self.sense!r} is not one of {PLAY_SENSES}")
+        require(_finite(self.play_m) and 0 <= self.play_m < 0.01,
+                f"play {self.feature!r}: play_m must be in [0, 0.01) m, got {self.play_m!r}")
+        require(bool(self.cad_feature), f"play {self.feature!r}: name the CAD feature it comes from")
+
+
 @dataclass(frozen=True)
 class ConnectorProperties:
     """Compliance of one docked coupling, lumped at the coupling point.
 
     ``rotational_stiffness_nm_per_rad`` is the bending (pitch) stiffness of the
     joint about the horizontal axis across the coupling; ``backlash_rad`` the
-    free pitch play before it carries load (from print clearance over lever
-    arm); ``gap_m`` the face-to-face gap when docked; ``height_m`` the height
+    free pitch play before it carries load (for a front-rear coupling: its
+    ``tension`` play over the lever arm of the highest pin about the hinge);
+    ``gap_m`` the face-to-face gap when docked; ``height_m`` the height
     of the coupling's load point above the robot's underside.
+
+    ``play``: the translational play per feature (:class:`FeaturePlay`), each
+    from the CAD's clearances; empty in records written before it existed (then
+    the couplings have no translational play). ``provenance``: where the
+    stiffness values come from, ``"hand formula: <which>"``, ``"fe: <mesh,
+    element, solver, cache key>"`` or ``"measured: <file>"``.
     """
 
     kind: str
@@ -53,8 +101,24 @@ class ConnectorProperties:
     backlash_rad: float = 0.0
     gap_m: float = 0.0
     height_m: float = 0.0
+    play: tuple[FeaturePlay, ...] = ()
+    provenance: str = LEGACY_PROVENANCE
+    #: Vertical (shear) stiffness after the play, N/m, when known apart from the axial one
+    #: (an FE result); None: the model uses the axial stiffness in both directions.
+    shear_stiffness_n_per_m: float | None = None
+
+    def play_of(self, feature: str) -> FeaturePlay | None:
+        """The play of ``feature`` (None if the record has none)."""
+        return next((p for p in self.play if p.feature == feature), None)
 
     def __post_init__(self) -> None:
+        require(isinstance(self.provenance, str) and self.provenance.startswith(PROVENANCE_PREFIXES),
+                f"{self.kind}.provenance must start with one of {', '.join(PROVENANCE_PREFIXES)}, "
+                f"got {self.provenance!r}")
+        names = [p.feature for p in self.play]
+        require(len(set(names)) == len(names), f"{self.kind}: duplicate play features {names}")
+        axes = [(p.axis, p.sense) for p in self.play]
+        require(len(set(axes)) == len(axes), f"{self.kind}: two play features on the same axis and sense {axes}")
         require(self.kind in CONNECTOR_KINDS,
                 f"connector kind {self.kind!r} is not one of {', '.join(CONNECTOR_KINDS)}")
         for name in ("rotational_stiffness_nm_per_rad", "axial_stiffness_n_per_m"):
@@ -63,6 +127,8 @@ class ConnectorProperties:
         for name in ("backlash_rad", "gap_m", "height_m"):
             v = getattr(self, name)
             require(_finite(v) and v >= 0, f"{self.kind}.{name} must be >= 0, got {v!r}")
+        v = self.shear_stiffness_n_per_m
+        require(v is None or (_finite(v) and v > 0), f"{self.kind}.shear_stiffness_n_per_m must be > 0, got {v!r}")
         require(self.backlash_rad < 0.5, f"{self.kind}.backlash_rad {self.backlash_rad} is not a small angle (< 0.5 rad)")
 
 

@@ -147,5 +147,6 @@ def calibrated_connectors(conn: ConnectorSet, cal: Calibration) -> ConnectorSet:
     def s(j: Joint | None) -> Joint | None:
         if j is None:
             return None
-        return replace(j, rotational_nm_per_rad=j.rotational_nm_per_rad * cal.ratio)
+        return replace(j, rotational_nm_per_rad=j.rotational_nm_per_rad * cal.ratio,
+                       provenance=f"{j.provenance}; rotational x{cal.ratio:.4g} (platform bolt calibration)")
     return ConnectorSet(s(conn.front_rear), s(conn.side_rail), s(conn.top_twist))

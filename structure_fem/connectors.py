@@ -6,7 +6,12 @@ A docked coupling is lumped at one point (the coupling's load point) and has
   (the pins / rail / key carry axial and shear load: a stiff pin), and
 * a rotational (pitch) spring of ``rotational_nm_per_rad`` with a *dead band*
   of half-width ``backlash_rad``: the joint turns freely by ``backlash_rad``
-  either side of its docked position before the spring carries load.
+  either side of its docked position before the spring carries load;
+* translational play per axis from the record's per-feature play
+  (:class:`cubot_cad.properties.FeaturePlay`): ``play_x`` / ``play_z`` are the free
+  travel ``(closing, opening)`` before the spring bears in that direction, e.g. a
+  front-rear coupling's ``(0, tension play)`` along x (tension-only gap: the faces
+  touch in compression) and ``(slip, slip)`` along z (pins in their holes).
 
 The dead band is smooth (``dead_band_moment``) because a sharp one makes the
 Newton Jacobian jump and the static solver stall on long chains (see the
@@ -48,23 +53,84 @@ class Joint:
     backlash_rad: float = 0.0
     height_m: float = 0.0
     gap_m: float = 0.0
+    #: Free travel (m) along x before the spring bears: (closing, opening); opening = +x of the
+    #: front / upper / odd body's marker relative to the other's.
+    play_x: tuple[float, float] = (0.0, 0.0)
+    #: The same along z (opening = up).
+    play_z: tuple[float, float] = (0.0, 0.0)
+    #: Stiffness along z (N/m) when it differs from the axial one (the FE's shear after the play).
+    shear_n_per_m: float | None = None
+    provenance: str = ""
 
     def __post_init__(self) -> None:
         _pos(f"{self.kind} rotational stiffness (N m/rad)", self.rotational_nm_per_rad)
         _pos(f"{self.kind} axial stiffness (N/m)", self.axial_n_per_m)
+        if self.shear_n_per_m is not None:
+            _pos(f"{self.kind} shear stiffness (N/m)", self.shear_n_per_m)
         _nonneg(f"{self.kind} backlash (rad)", self.backlash_rad)
         _nonneg(f"{self.kind} height (m)", self.height_m)
         _nonneg(f"{self.kind} gap (m)", self.gap_m)
+        for name in ("play_x", "play_z"):
+            v = getattr(self, name)
+            if len(v) != 2:
+                raise InputError(f"{self.kind} {name} must be (closing, opening), got {v!r}")
+            for x in v:
+                _nonneg(f"{self.kind} {name} (m)", x)
+                if x >= 0.01:
+                    raise InputError(f"{self.kind} {name} {x} m is not a clearance (< 10 mm)")
         if self.backlash_rad >= 0.5:
             raise InputError(f"{self.kind} backlash {self.backlash_rad} rad is not a small angle (< 0.5 rad)")
 
+    @property
+    def k_z(self) -> float:
+        """Stiffness along z (N/m): the shear stiffness if known, else the axial one."""
+        return self.axial_n_per_m if self.shear_n_per_m is None else self.shear_n_per_m
+
+    @property
+    def has_translational_play(self) -> bool:
+        return any(v > 0 for v in self.play_x + self.play_z)
+
     def scaled(self, stiffness: float = 1.0, backlash: float = 1.0) -> Joint:
-        """Both stiffnesses times ``stiffness``, the dead band times ``backlash``."""
+        """Every stiffness times ``stiffness``, every play (pitch dead band and translational
+        play per feature) times ``backlash``."""
         _pos("stiffness scale", stiffness)
         _nonneg("backlash scale", backlash)
         return replace(self, rotational_nm_per_rad=self.rotational_nm_per_rad * stiffness,
                        axial_n_per_m=self.axial_n_per_m * stiffness,
-                       backlash_rad=self.backlash_rad * backlash)
+                       shear_n_per_m=None if self.shear_n_per_m is None else self.shear_n_per_m * stiffness,
+                       backlash_rad=self.backlash_rad * backlash,
+                       play_x=tuple(v * backlash for v in self.play_x),
+                       play_z=tuple(v * backlash for v in self.play_z))
+
+
+def joint_play(play) -> dict[str, tuple[float, float]]:
+    """``{"play_x": (closing, opening), "play_z": ...}`` from a record's per-feature play
+    (:class:`cubot_cad.properties.FeaturePlay`): ``both`` opens both ways, ``tension`` only
+    the opening one; two features on one axis and sense add (in series)."""
+    out = {"play_x": [0.0, 0.0], "play_z": [0.0, 0.0]}
+    for f in play:
+        v = out[f"play_{f.axis}"]
+        v[1] += f.play_m
+        if f.sense == "both":
+            v[0] += f.play_m
+    return {k: (v[0], v[1]) for k, v in out.items()}
+
+
+def band_force(u: float, k: float, closing: float, opening: float, e: float) -> float:
+    """Force (N) of a spring ``k`` free over ``[-closing, opening]`` about its docked position,
+    smoothed over ``e``: ``k/2 [(u - o) + sqrt((u - o)^2 + e^2)] + k/2 [(u + c) - sqrt((u + c)^2 + e^2)]``
+    less its value at ``u = 0`` (an undeformed coupling carries nothing). ``closing = 0``: a
+    compression-only contact at the docked position (the smooth ``k min(u, 0)``) plus the
+    tension gap ``opening``. Both zero: the plain spring ``k u``."""
+    if closing <= 0 and opening <= 0:
+        return k * u
+
+    def f(x: float) -> float:
+        a = x - opening
+        b = x + closing
+        return 0.5 * k * (a + math.sqrt(a * a + e * e)) + 0.5 * k * (b - math.sqrt(b * b + e * e))
+
+    return f(u) - f(0.0)
 
 
 def dead_band_moment(theta: float, k: float, half_width: float, smoothing: float | None = None) -> float:
@@ -108,7 +174,8 @@ class ConnectorSet:
             if c is None:
                 return None
             return Joint(c.kind, c.rotational_stiffness_nm_per_rad, c.axial_stiffness_n_per_m,
-                         c.backlash_rad, c.height_m, c.gap_m)
+                         c.backlash_rad, c.height_m, c.gap_m, **joint_play(c.play),
+                         shear_n_per_m=c.shear_stiffness_n_per_m, provenance=c.provenance)
 
         return cls(joint(line), joint(kinds.get("side_rail")), joint(kinds.get("top_twist")))
 
@@ -123,6 +190,7 @@ class ConnectorSet:
             j = getattr(self, name)
             if j is not None:
                 out[name] = {"kind": j.kind, "rotational_nm_per_rad": j.rotational_nm_per_rad,
-                             "axial_n_per_m": j.axial_n_per_m, "backlash_rad": j.backlash_rad,
-                             "height_m": j.height_m}
+                             "axial_n_per_m": j.axial_n_per_m, "shear_n_per_m": j.k_z,
+                             "backlash_rad": j.backlash_rad, "play_x_m": list(j.play_x),
+                             "play_z_m": list(j.play_z), "height_m": j.height_m, "provenance": j.provenance}
         return out

@@ -43,17 +43,28 @@ def _thresholds() -> str:
 
 def _connectors() -> str:
     from cubot_cad.properties import RobotPropertiesFile, default_properties_path
+    from structure_fem.connector_sources import resolve
 
     rec = RobotPropertiesFile.load(default_properties_path())
-    rows = ["| robot | coupling | rotational stiffness (N m/rad) | axial stiffness (N/m) | play (mrad) |",
-            "|---|---|---|---|---|"]
+    rows = ["| robot | coupling | rotational stiffness (N m/rad) | axial stiffness (N/m) | pitch play (mrad) | "
+            "play per feature (mm) | values from |",
+            "|---|---|---|---|---|---|---|"]
+    prov = []
     for robot in rec.robots:
-        for c in robot.connectors:
+        used, _notes = resolve(robot)
+        for c in used.connectors:
+            play = ", ".join(f"{p.feature} {1e3 * p.play_m:.3g} ({p.axis}, {p.sense})" for p in c.play) or "-"
+            orig = robot.connector(c.kind)
+            was = ("" if c == orig else
+                   f" (record: {orig.rotational_stiffness_nm_per_rad:.4g} / {orig.axial_stiffness_n_per_m:.3g})")
             rows.append(f"| {robot.name} | {c.kind} | {c.rotational_stiffness_nm_per_rad:.4g} | "
-                        f"{c.axial_stiffness_n_per_m:.3g} | {1000 * c.backlash_rad:.2f} |")
+                        f"{c.axial_stiffness_n_per_m:.3g}{was} | {1000 * c.backlash_rad:.2f} | {play} | "
+                        f"{c.provenance.split(':')[0]} |")
+            prov.append(f"* `{robot.name}.{c.kind}`: {c.provenance}")
     src = {r.source for r in rec.robots}
     return ("From the packaged record `cubot_cad/data/robot_properties.json` (source: "
-            + "; ".join(sorted(src)) + "):\n\n" + "\n".join(rows) + "\n")
+            + "; ".join(sorted(src)) + "), as the model uses it (`--connectors fe`, the default):\n\n"
+            + "\n".join(rows) + "\n\nProvenance of each value:\n\n" + "\n".join(prov) + "\n")
 
 
 def _calibration() -> str:

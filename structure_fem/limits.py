@@ -127,6 +127,8 @@ class StructureLimits:
     notes: str = ""
     #: Inputs that produced a derived record (stiffness, masses, ...), for provenance.
     inputs: dict[str, float] = field(default_factory=dict)
+    #: Where each input comes from (per connector: "hand formula: ...", "fe: ...", "measured: ...").
+    input_provenance: dict[str, str] = field(default_factory=dict)
     schema_version: int = SCHEMA_VERSION
 
     def __post_init__(self) -> None:

@@ -49,7 +49,7 @@ import numpy as np
 
 from cubot_cad.properties import RobotProperties
 
-from .connectors import SMOOTHING, ConnectorSet, dead_band_moment
+from .connectors import SMOOTHING, ConnectorSet, band_force, dead_band_moment
 from .errors import InputError, SolverFailure
 from .structures import GRAVITY, Layout, Structure, layout, tipping_factor
 
@@ -216,6 +216,72 @@ def _dead_band_uf(mbs, h: float, e: float, k_reg: float, keep: list, e0: float =
     return f
 
 
+def _band_uf_cartesian(mbs, bands, keep: list, start: float = 0.0, power: int = 20):
+    """The pin / rail / key spring with translational play: per in-plane axis (x, z) a spring
+    free over ``[-closing, opening]`` (:func:`structure_fem.connectors.band_force`) + ``k_reg u``.
+    ``bands``: ``((closing, opening, e, k_reg), (closing, opening, e, k_reg))`` for x and z; the
+    stiffnesses are the connector's ``stiffness[0]``, ``stiffness[1]``. With ``start > 0`` each
+    band's smoothing starts at ``start x`` its widest play and relaxes to ``e`` as the load
+    factor reaches 1 (the same continuation as the pitch dead bands, :class:`SolverOptions`)."""
+
+    def e_at(t, e, gap, pw):
+        e0 = start * gap
+        if e0 <= e:
+            return e
+        return e + (e0 - e) * pw(1.0 - t)
+
+    def py(mbs_, t, item, u, v, k, d, off):
+        out = [0.0, 0.0, 0.0]
+        for i, (c, o, e, kr) in enumerate(bands):
+            ee = e_at(t, e, max(c, o), lambda x: max(0.0, x) ** power)
+            out[i] = band_force(u[i], k[i], c, o, ee) + kr * u[i]
+        return out
+
+    if not SYMBOLIC:
+        return py
+    import exudyn as exu
+    from exudyn.advancedUtilities import CreateSymbolicUserFunction
+
+    esym = exu.symbolic
+
+    def sym(mbs_, t, item, u, v, k, d, off):
+        out = []
+        for i, (c, o, e, kr) in enumerate(bands):
+            x = u[i]
+            if c <= 0 and o <= 0:
+                out.append(k[i] * x)
+                continue
+            ee = e_at(t, e, max(c, o), lambda y: esym.pow(y, power))
+            a = x - o
+            b = x + c
+            f0 = 0.5 * k[i] * (-o + esym.sqrt(o * o + ee * ee)) + 0.5 * k[i] * (c - esym.sqrt(c * c + ee * ee))
+            out.append(0.5 * k[i] * (a + esym.sqrt(a * a + ee * ee)) + 0.5 * k[i] * (b - esym.sqrt(b * b + ee * ee))
+                       - f0 + kr * x)
+        return [out[0], out[1], 0.0]
+
+    f = CreateSymbolicUserFunction(mbs, sym, "springForceUserFunction",
+                                   itemTypeName="ObjectConnectorCartesianSpringDamper")
+    keep.append(f)
+    return f
+
+
+def translational_bands(joint, count: int, force_scale_n: float) -> tuple[tuple[float, float, float, float], ...]:
+    """``(closing, opening, e, k_reg)`` along x and z of a coupling (``count`` in parallel):
+    the smoothing ``e`` keeps a coupling carrying ``force_scale_n`` (one body's weight) or more
+    within 1 % of the play of the sharp band edge (``e^2 k / (4 F)``), at most a tenth of the
+    play; the weak spring ``k_reg`` (at most 1 % of that force at the edge of the play, 1e-3 of
+    the coupling) gives a coupling inside its play a defined position."""
+    out = []
+    for (c, o), k in ((joint.play_x, joint.axial_n_per_m * count), (joint.play_z, joint.k_z * count)):
+        gap = max(c, o)
+        if gap <= 0:
+            out.append((0.0, 0.0, 0.0, 0.0))
+            continue
+        e = min(SMOOTHING * gap, math.sqrt(0.04 * force_scale_n * gap / k))
+        out.append((c, o, e, min(1e-3 * k, 0.01 * force_scale_n / gap)))
+    return tuple(out)
+
+
 def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, options: SolverOptions) -> StaticResult:
     import exudyn as exu
     from exudyn.itemInterface import (
@@ -254,8 +320,14 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
         ma = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[c.a], localPosition=local(c.a, c.point_m)))
         mb = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[c.b], localPosition=local(c.b, c.point_m)))
         ka = c.joint.axial_n_per_m * c.count
-        mbs.AddObject(ObjectConnectorCartesianSpringDamper(markerNumbers=[ma, mb], stiffness=[ka, ka, 0.0],
-                                                           damping=[0.0, 0.0, 0.0]))
+        kz = c.joint.k_z * c.count
+        extra = {}
+        if c.joint.has_translational_play:
+            bands = translational_bands(c.joint, c.count, lay.bodies[c.a].mass_kg * GRAVITY)
+            extra["springForceUserFunction"] = _band_uf_cartesian(mbs, bands, keep, options.smoothing_start,
+                                                                  options.smoothing_power)
+        mbs.AddObject(ObjectConnectorCartesianSpringDamper(markerNumbers=[ma, mb], stiffness=[ka, kz, 0.0],
+                                                           damping=[0.0, 0.0, 0.0], **extra))
         ra = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nodes[c.a], coordinate=2))
         rb = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=nodes[c.b], coordinate=2))
         kr = c.joint.rotational_nm_per_rad * c.count

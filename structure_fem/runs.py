@@ -17,6 +17,7 @@ from pathlib import Path
 from cubot_cad.properties import RobotProperties, RobotPropertiesFile, load_properties
 
 from .calibration import Calibration, calibrate, calibrated_connectors
+from .connectors import ConnectorSet
 from .errors import InputError, SolverFailure
 from .limits import StructureLimits
 from .model import Config, solve
@@ -38,7 +39,10 @@ from .study import (
     tapered_arches,
 )
 
-CONNECTOR_SOURCES = ("properties", "calibrated")
+#: ``fe``: finite-element results where one applies to the record's geometry (cached or packaged,
+#: :mod:`structure_fem.connector_sources`), the record's hand formula elsewhere; ``properties``:
+#: the record's hand formulas only; ``calibrated``: those scaled by the platform bolt fit.
+CONNECTOR_SOURCES = ("fe", "properties", "calibrated")
 Progress = Callable[[Iterable, str, int], Iterable]
 
 
@@ -50,7 +54,9 @@ class RunOptions:
     robot: str = "cubot"
     clearance_mm: float | None = None
     caster: bool = False
-    connectors: str = "properties"
+    connectors: str = "fe"
+    #: A measured-coupling JSON (``connector_sources.load_measured``): replaces those connectors.
+    measured: str | None = None
     stiffness_scale: float = 1.0
     backlash_scale: float = 1.0
     mass_scale: float = 1.0
@@ -73,8 +79,11 @@ def load_file(opts: RunOptions) -> RobotPropertiesFile:
 def make_inputs(opts: RunOptions, props: RobotPropertiesFile | None = None,
                 cal: Calibration | None = None) -> tuple[StudyInputs, dict]:
     """Study inputs and the calibration record (fitted bolt, how the robot's connectors follow)."""
+    from .connector_sources import resolve
+
     props = load_file(opts) if props is None else props
-    robot: RobotProperties = props.get(opts.robot)
+    record: RobotProperties = props.get(opts.robot)
+    robot, sources = resolve(record, "fe" if opts.connectors == "fe" else "properties", measured=opts.measured)
     clearance = opts.clearance_mm
     if opts.caster:
         if clearance is not None:
@@ -87,15 +96,18 @@ def make_inputs(opts: RunOptions, props: RobotPropertiesFile | None = None,
                                 max_width=opts.max_width)
     if cal is None:
         cal = calibrate(props, opts.calibration_backlash)
-    cal_conn = calibrated_connectors(inp.connectors, cal)
+    # The calibration scales the record's hand estimates (it says how far off they were).
+    cal_conn = calibrated_connectors(ConnectorSet.from_robot(record).scaled(opts.stiffness_scale,
+                                                                           opts.backlash_scale), cal)
     if opts.connectors == "calibrated":
         inp = replace(inp, connectors=cal_conn)
     info = cal.to_dict()
     info["robot_connectors_source"] = opts.connectors
+    info["connector_sources"] = sources
     info["robot_connectors"] = inp.connectors.to_dict()
     info["calibrated_alternative"] = {
         "rule": "robot stiffness x (fitted / estimated platform bolt stiffness)",
-        "connectors": cal_conn.to_dict() if opts.connectors == "properties" else None,
+        "connectors": cal_conn.to_dict() if opts.connectors != "calibrated" else None,
     }
     return inp, info
 
@@ -103,7 +115,7 @@ def make_inputs(opts: RunOptions, props: RobotPropertiesFile | None = None,
 def _alt_thresholds(inp: StudyInputs, info: dict, opts: RunOptions) -> list[tuple[str, NonConvergence]]:
     """Thresholds with the other connector source, for the calibration report; returns its
     non-converged solves with their context."""
-    alt_opts = replace(opts, connectors="calibrated" if opts.connectors == "properties" else "properties")
+    alt_opts = replace(opts, connectors="calibrated" if opts.connectors != "calibrated" else "properties")
     alt_inp, _ = make_inputs(alt_opts)
     alt = derive(alt_inp, extra=0)
     th = alt.thresholds()
@@ -122,8 +134,20 @@ def not_converged(failures: Iterable[tuple[str, NonConvergence]]) -> dict:
     return {"not_converged": items, "warnings": lines}
 
 
+def structure_reports(d: Derivation, ranges: bool = True) -> list[dict]:
+    """Per structure: threshold, margin, what sets it, bodies, range (:mod:`structure_fem.margins`);
+    the range only for the thesis-shaped structures (the narrow arches are reported, not banded)."""
+    from .margins import report
+
+    narrow = [c.structure.name for c in d.curves
+              if c.structure.kind == "arch" and c.structure.lines < 2 * c.structure.layers]
+    wide = report(d, ranges, [c.structure.name for c in d.curves if c.structure.name not in narrow])
+    return wide + report(d, False, narrow)
+
+
 def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | Path | None = None,
-              progress: Progress | None = None, alternative: bool = True, plots: bool = True) -> dict:
+              progress: Progress | None = None, alternative: bool = True, plots: bool = True,
+              ranges: bool = True) -> dict:
     """Derive, write selection_table.{md,csv}, limits.json (+ plots); return the JSON summary.
 
     The table also evaluates the thesis's tapering arches under our mechanics
@@ -144,6 +168,7 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
     tapered = tapered_arches(d, progress=progress)
     alt_failures = _alt_thresholds(inp, info, opts) if alternative else []
     info["body_bending"] = body_bending(d)
+    structures = structure_reports(d, ranges)
     out.mkdir(parents=True, exist_ok=True)
     files: dict[str, str] = {}
     if plots and tapered:
@@ -153,7 +178,10 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
         if docs_dir is not None:
             files["docs_tapered_plot"] = str(tapered_plot(d, tapered, Path(docs_dir) / "img" / TAPERED_PLOT))
     link = TAPERED_PLOT if plots and tapered else None
-    md = table_markdown(rows, d, limits, info, tapered_markdown(tapered, d, link))
+    from .margins import markdown as margins_markdown
+
+    sect = margins_markdown(structures)
+    md = table_markdown(rows, d, limits, info, tapered_markdown(tapered, d, link)) + "\n" + sect
     files.update({
         "markdown": str(write_text_atomic(out / "selection_table.md", md)),
         "csv": str(write_text_atomic(out / "selection_table.csv", table_csv(rows))),
@@ -167,11 +195,12 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
         stale = True
     if docs_dir is not None:
         docs_md = table_markdown(rows, d, limits, info,
-                                 tapered_markdown(tapered, d, f"img/{TAPERED_PLOT}" if link else None))
+                                 tapered_markdown(tapered, d, f"img/{TAPERED_PLOT}" if link else None)) + "\n" + sect
         files["docs_markdown"] = str(write_text_atomic(Path(docs_dir) / "structure_fem_table.md", docs_md))
     if plots:
         files.update(write_plots(out, d))
     res = summary(d, limits, info, files, rows, tapered)
+    res["structures"] = structures
     res.update(not_converged([("", f) for f in d.failures] + alt_failures))
     if limits is None:
         res["warnings"].append(f"warning: {no_crossing(d)}; limits.json not written"

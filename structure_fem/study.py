@@ -78,16 +78,34 @@ class StudyInputs:
         return cls(robot, conn, clearance_m, **kw)
 
     def provenance(self) -> dict[str, float]:
-        c = self.connectors
+        """Every numeric input of the derivation (SI), named ``<connector>_<quantity>`` for the
+        couplings; :meth:`input_provenance` says where each connector's values come from."""
         out = {"mass_kg": self.robot.mass_kg, "length_m": self.robot.length_m, "height_m": self.robot.height_m,
-               "clearance_m": self.clearance_m, "required_tipping": self.required_tipping,
-               "front_rear_nm_per_rad": c.front_rear.rotational_nm_per_rad,
-               "front_rear_backlash_rad": c.front_rear.backlash_rad,
-               "front_rear_axial_n_per_m": c.front_rear.axial_n_per_m}
-        if c.side_rail:
-            out["side_rail_nm_per_rad"] = c.side_rail.rotational_nm_per_rad
-        if c.top_twist:
-            out["top_twist_nm_per_rad"] = c.top_twist.rotational_nm_per_rad
+               "clearance_m": self.clearance_m, "required_tipping": self.required_tipping}
+        for name, j in self._joints():
+            out[f"{name}_nm_per_rad"] = j.rotational_nm_per_rad
+            out[f"{name}_axial_n_per_m"] = j.axial_n_per_m
+            out[f"{name}_shear_n_per_m"] = j.k_z
+            out[f"{name}_backlash_rad"] = j.backlash_rad
+            out[f"{name}_play_x_closing_m"], out[f"{name}_play_x_opening_m"] = j.play_x
+            out[f"{name}_play_z_closing_m"], out[f"{name}_play_z_opening_m"] = j.play_z
+            out[f"{name}_height_m"] = j.height_m
+        return out
+
+    def _joints(self):
+        c = self.connectors
+        return [(n, getattr(c, n)) for n in ("front_rear", "side_rail", "top_twist") if getattr(c, n) is not None]
+
+    def input_provenance(self) -> dict[str, str]:
+        """Per connector: where its stiffness comes from (``hand formula: ...``, ``fe: ...``,
+        ``measured: ...``) and that its play is the CAD's clearances per feature; the robot's
+        mass properties from the record's source."""
+        out = {"robot": self.robot.source}
+        for name, j in self._joints():
+            out[name] = j.provenance or "hand formula (legacy record)"
+            out[f"{name}_play"] = ("CAD clearances per feature (robot_properties.json play)"
+                                   if j.has_translational_play else
+                                   "pitch backlash only (no per-feature play in the record)")
         return out
 
 
@@ -345,7 +363,8 @@ def limits_from(d: Derivation, source: str = "derived") -> StructureLimits:
     narrows = [f"{c.structure.name} to {c.threshold} with {c.robots[c.widths.index(c.threshold)]} robots"
                for c in d.curves if narrow(c.structure) and c.threshold]
     failing = [f"{f.structure} at width {f.width}" for f in d.failures if f.counted_as == "counted as failing"]
-    notes = (f"Derived by structure_fem (exudyn planar multibody, penalty couplings with dead band) for "
+    notes = (f"Derived by structure_fem (exudyn planar multibody, penalty couplings with pitch dead band and "
+             f"translational play per feature from the CAD clearances) for "
              f"{inp.robot.name}: clearance {inp.clearance_m * 1e3:g} mm, tipping factor > {inp.required_tipping:g}. "
              f"Own thresholds per structure: {th['per_structure']}. "
              f"Rows on the initial ground >= rows over the void + margin (n_p = n_g + margin) replaces the thesis's "
@@ -358,7 +377,8 @@ def limits_from(d: Derivation, source: str = "derived") -> StructureLimits:
              + (f". Static solves that did not converge, counted as failing: {'; '.join(failing)}" if failing else "")
              + ".")
     return StructureLimits(source=source, robot=inp.robot.name, clearance_mm=round(inp.clearance_m * 1e3, 6),
-                           levels=tuple(lv), notes=notes, inputs=inp.provenance())
+                           levels=tuple(lv), notes=notes, inputs=inp.provenance(),
+                           input_provenance=inp.input_provenance())
 
 
 # --------------------------------------------------------------------------- the selection table

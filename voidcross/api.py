@@ -467,7 +467,7 @@ def _fem_options(properties, robot, clearance_mm, caster, connectors, max_width_
 
 
 def fem_table(properties: str | os.PathLike | None = None, robot: str = "cubot", clearance_mm: float | None = None,
-              caster: bool = False, connectors: str = "properties", max_width_robots: int = 30,
+              caster: bool = False, connectors: str = "fe", max_width_robots: int = 30,
               stiffness_scale: float = 1.0, backlash_scale: float = 1.0, mass_scale: float = 1.0,
               tipping: float = 1.0, flexible: bool = False, out: str | os.PathLike | None = None) -> list[dict]:
     """The structure-selection table, one record per void width, as ``voidcross fem table`` derives it.
@@ -478,7 +478,7 @@ def fem_table(properties: str | os.PathLike | None = None, robot: str = "cubot",
     width, the structure used and its launch and bridged states. Each record also carries its
     structure's derived threshold (``threshold_widths``, from the same run's
     ``thresholds_per_structure``) and the robots it needs there. Takes ~10 s for
-    ``max_width_robots=6`` and ~40 s for 30 on a busy 2-core machine. Needs exudyn.
+    ``max_width_robots=6`` and ~2 min for 30 on a busy 2-core machine (margins and ranges included). Needs exudyn.
 
     Args:
         properties: a ``robot_properties.json`` (``voidcross cad export`` writes one); ``None``:
@@ -487,8 +487,10 @@ def fem_table(properties: str | os.PathLike | None = None, robot: str = "cubot",
         clearance_mm: climb clearance in mm (default: the robot's exposed main-wheel height,
             15 mm for the CuBot).
         caster: strict alternative: clearance = the exposed caster height (3.3 mm).
-        connectors: ``"properties"`` (the robot's own coupling record) or ``"calibrated"``
-            (scaled by the test-platform calibration).
+        connectors: ``"fe"`` (default, as the CLI: the CuBot front-rear coupling's stiffness from
+            the cached 3D finite-element solve, the rest from the record, each with its
+            provenance), ``"properties"`` (the robot's own coupling record, hand formulas) or
+            ``"calibrated"`` (the record scaled by the test-platform calibration).
         max_width_robots: widest void studied, in robot widths (1..100).
         stiffness_scale, backlash_scale, mass_scale: multiply every coupling stiffness, every
             backlash, the robot's mass and inertia (sensitivity studies).
@@ -546,7 +548,7 @@ def fem_table(properties: str | os.PathLike | None = None, robot: str = "cubot",
 
 
 def deflection_curves(properties: str | os.PathLike | None = None, robot: str = "cubot",
-                      clearance_mm: float | None = None, caster: bool = False, connectors: str = "properties",
+                      clearance_mm: float | None = None, caster: bool = False, connectors: str = "fe",
                       max_width_robots: int = 8, stiffness_scale: float = 1.0, backlash_scale: float = 1.0,
                       mass_scale: float = 1.0, tipping: float = 1.0, flexible: bool = False) -> list[dict]:
     """Tip deflection at the longest cantilever for each candidate structure and void width.

@@ -95,3 +95,71 @@ def test_atomic_save_keeps_old_file_when_serialisation_fails(props, tmp_path):
         write_json_atomic(path, {"x": object()})
     assert path.read_bytes() == before
     assert [p.name for p in tmp_path.iterdir()] == ["robot_properties.json"]
+
+
+# --- play per feature and provenance (issue 12) ------------------------------------------------
+
+def test_a_record_without_play_or_provenance_loads_as_legacy(props, tmp_path):
+    from cubot_cad.properties import LEGACY_PROVENANCE
+
+    data = props.to_dict()
+    for r in data["robots"]:
+        for c in r["connectors"]:
+            for k in ("play", "provenance", "shear_stiffness_n_per_m"):
+                c.pop(k, None)
+    p = tmp_path / "old.json"
+    p.write_text(json.dumps(data))
+    old = RobotPropertiesFile.load(p).get("cubot").connector("front_rear")
+    assert old.provenance == LEGACY_PROVENANCE == "hand formula (legacy record)"
+    assert old.play == () and old.play_of("tension") is None
+
+
+def test_every_shipped_connector_names_where_its_values_come_from(props):
+    for r in props.robots:
+        for c in r.connectors:
+            assert c.provenance.startswith("hand formula: "), (r.name, c.kind, c.provenance)
+            for p in c.play:
+                assert p.cad_feature and p.play_m > 0, (r.name, c.kind, p)
+
+
+def test_front_rear_tension_play_is_the_two_clearances_in_series():
+    """Pin head in its counterbore + blade in the pin groove: 0.4 mm at 0.2 mm clearance, and the
+    pitch backlash is that play over the highest pin's lever arm (not one clearance)."""
+    from cubot_cad.cubot import CuBot
+
+    cub = CuBot()
+    fr = cub.connector_properties(2.2e9)[0]
+    t = fr.play_of("tension")
+    assert (t.axis, t.sense) == ("x", "tension")
+    assert t.play_m == pytest.approx(2 * 0.2e-3, rel=1e-9)
+    assert fr.play_of("vertical_slip").play_m == pytest.approx(2 * 0.2e-3, rel=1e-9)
+    assert fr.backlash_rad == pytest.approx(t.play_m / (max(cub.pin_heights_mm()) * 1e-3), rel=1e-9)
+    assert "counterbore" in t.cad_feature and "groove" in t.cad_feature
+
+
+@pytest.mark.parametrize("kind,feature", [("front_rear", "tension"), ("front_rear", "vertical_slip"),
+                                          ("side_rail", "rail_vertical"), ("top_twist", "key_slip"),
+                                          ("top_twist", "pull_out")])
+def test_doubling_the_cad_clearance_doubles_each_feature_play(kind, feature):
+    from cubot_cad.cubot import CuBot
+
+    def play(c):
+        conns = {x.kind: x for x in CuBot(clearance_mm=c).connector_properties(2.2e9)}
+        return conns[kind].play_of(feature).play_m
+
+    assert play(0.4) == pytest.approx(2 * play(0.2), rel=1e-6)
+    assert play(0.4) > play(0.2) > 0
+
+
+def test_bad_play_and_provenance_are_named():
+    from cubot_cad.properties import FeaturePlay
+
+    with pytest.raises(InputError, match="sense 'sideways'"):
+        FeaturePlay("tension", "x", "sideways", 1e-4, "pins")
+    with pytest.raises(InputError, match="play_m"):
+        FeaturePlay("tension", "x", "tension", -1e-4, "pins")
+    with pytest.raises(InputError, match="provenance must start with"):
+        ConnectorProperties("front_rear", 1.0, 1e5, provenance="a guess")
+    p = FeaturePlay("tension", "x", "tension", 1e-4, "pins")
+    with pytest.raises(InputError, match="duplicate play features"):
+        ConnectorProperties("front_rear", 1.0, 1e5, play=(p, p))

@@ -9,6 +9,7 @@ import pytest
 from structure_fem import docs_blocks as B
 
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "structure_fem.md"
+README = Path(__file__).resolve().parents[2] / "README.md"
 
 
 def test_the_page_shows_what_the_code_computes():
@@ -27,3 +28,9 @@ def test_a_block_moves_when_its_input_moves(monkeypatch, tmp_path):
     f.write_text("<!-- BEGIN generated nope -->\n<!-- END generated nope -->\n")
     with pytest.raises(KeyError, match="nope"):
         B.main(["--check", str(f)])
+
+
+def test_the_readme_shows_the_derived_thresholds_beside_the_thesis():
+    text = README.read_text()
+    assert "<!-- BEGIN generated thresholds -->" in text
+    assert B.render(text) == text, "run: make docs (python -m structure_fem.docs_blocks ... README.md)"

@@ -48,6 +48,17 @@ def test_table_json_outputs_and_properties_change_the_table(cli, tmp_path, test_
     assert out["clearance_mm"] == pytest.approx(15.0)  # the test robot's exposed wheel height
     assert out["calibration"]["bolt_stiffness_nm_per_rad"] > 0
     assert "thresholds_with_calibrated_connectors" in out["calibration"]["calibrated_alternative"]
+    # issue 12: per structure the threshold, its margin, what sets it, the bodies and the range
+    by = {r["structure"]: r for r in out["structures"]}
+    assert set(by) == set(out["thresholds_per_structure"])
+    for name, r in by.items():
+        assert r["threshold"] == out["thresholds_per_structure"][name] and r["bodies"] == "rigid"
+        if r["threshold"]:
+            assert r["margin_mm"] >= 0 and r["set_by"] in ("play", "elastic", "support (tipping about the edge)")
+    assert by["line"]["range"]["min"] <= by["line"]["threshold"] <= by["line"]["range"]["max"]
+    assert "## Thresholds, margins and what sets them" in (tmp_path / "selection_table.md").read_text()
+    # the test robot is not the parametric CuBot: its hand-formula values are used, and it says why
+    assert out["calibration"]["connector_sources"]["front_rear"].startswith("record (hand formula)")
     for name in ("selection_table.md", "selection_table.csv", "limits.json", "deflection_vs_width.png",
                  "side_view.png"):
         assert (tmp_path / name).stat().st_size > 0

@@ -88,7 +88,11 @@ def test_table_succeeds_over_the_valid_range(cli, tmp_path, cheap_structures, cl
     assert res.code == 0, res.err
     out = res.json()
     _assert_well_formed_table(tmp_path, out, 8)
-    assert out["not_converged"] == [] and _warnings(res) == []  # the solver converges: no fallback used
+    assert out["not_converged"] == []  # the solver converges: no fallback used
+    if out["max_span_widths"] == 0:  # 3 mm with x4 the CAD's play (1.6 mm tension gap): nothing crosses
+        assert len(_warnings(res)) == 1 and "limits.json not written" in _warnings(res)[0]
+    else:
+        assert _warnings(res) == []
 
 
 def test_table_at_40_mm_clearance_succeeds(cli, tmp_path):
@@ -220,6 +224,15 @@ def test_solve_that_does_not_converge_says_so(cli, monkeypatch):
 
 # --------------------------------------------------------------------------- the solver itself
 
+def _fine_plain():
+    from structure_fem.model import SolverOptions
+
+    return SolverOptions(smoothing_start=0.0, load_steps=1000, max_iterations=100)
+
+
+FINE_PLAIN = _fine_plain()
+
+
 def _calibrated_cubot_inputs():
     from structure_fem.runs import RunOptions, make_inputs
 
@@ -230,14 +243,15 @@ def _calibrated_cubot_inputs():
 def test_root_cause_plain_gravity_ramp_stalls_and_the_smoothing_continuation_converges():
     """The reported configuration (calibrated CuBot couplings, line 15 rows, 7 over a 7-wide void):
     the plain 8-step ramp stalls in the dead bands at a load factor of about 0.003; the smoothing
-    continuation converges at its first attempt, to what a 100-step plain ramp finds."""
+    continuation converges at its first attempt, to what a fine plain ramp finds (1000 steps: with
+    the pins' vertical slip as a second band per joint, 100 steps no longer converge)."""
     from structure_fem.model import Config, SolverOptions, _solve_once
 
     inp = _calibrated_cubot_inputs()
     cfg = Config(Structure("line"), 15, 7, 7)
     with pytest.raises(SolverFailure):
         _solve_once(cfg, inp.robot, inp.connectors, SolverOptions(smoothing_start=0.0))
-    fine = _solve_once(cfg, inp.robot, inp.connectors, SolverOptions(smoothing_start=0.0, load_steps=100))
+    fine = _solve_once(cfg, inp.robot, inp.connectors, FINE_PLAIN)
     cont = _solve_once(cfg, inp.robot, inp.connectors, SolverOptions())
     assert cont.tip_deflection_mm == pytest.approx(fine.tip_deflection_mm, rel=1e-6)
     assert cont.tipping_factor == pytest.approx(fine.tipping_factor, rel=1e-6)
@@ -248,13 +262,18 @@ def test_root_cause_plain_gravity_ramp_stalls_and_the_smoothing_continuation_con
                                          (Structure("two_line", 2, 1, "staggered"), 4)])
 def test_smoothing_continuation_does_not_change_a_converged_solution(cubot, structure, w):
     """Where the plain ramp converges, the continuation returns the same state (the smoothing is
-    the model's at load factor 1): the derived thresholds at the default inputs stay as they were."""
+    the model's at load factor 1): the derived thresholds at the default inputs stay as they were.
+    The plain 8-step ramp stalls on the line since the pins' vertical slip is modelled (a second
+    band per joint); there the reference is the plain 1000-step ramp."""
     from structure_fem.connectors import ConnectorSet
     from structure_fem.model import Config, SolverOptions, _solve_once
 
     conn = ConnectorSet.from_robot(cubot)
     cfg = Config(structure, 2 * w + 1, w, w)
-    plain = _solve_once(cfg, cubot, conn, SolverOptions(smoothing_start=0.0))
+    try:
+        plain = _solve_once(cfg, cubot, conn, SolverOptions(smoothing_start=0.0))
+    except SolverFailure:
+        plain = _solve_once(cfg, cubot, conn, FINE_PLAIN)
     cont = _solve_once(cfg, cubot, conn, SolverOptions())
     assert cont.tip_deflection_mm == pytest.approx(plain.tip_deflection_mm, rel=1e-7)
     assert cont.joint_rotation_rad == pytest.approx(plain.joint_rotation_rad, rel=1e-6, abs=1e-9)

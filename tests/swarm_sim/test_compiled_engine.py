@@ -61,7 +61,6 @@ REGRESSION = [
     ("large-void", 40, 6, "derived", 1, None, SMALL_VOID_ARENA),  # switch, retreat
     ("large-void-8", 20, 8, "thesis", 1, 120.0, SMALL_VOID_ARENA),
     ("large-void-15", 30, 15, "thesis", 2, 120.0, {}),
-    ("large-void-17", 30, 17, "thesis", 1, 100.0, {}),
     ("large-void-30", 30, 30, "thesis", 1, 80.0, {}),
 ]
 

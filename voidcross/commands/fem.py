@@ -27,6 +27,9 @@ EPILOG = """examples:
   voidcross fem solve --structure arch --lines 6 --layers 3 --taper-block-rows 5 --rows 30 --over 15 --void 15
                                                the thesis's tapering arch, core front at the far edge
   voidcross fem bench                          time the whole table and one 15-robot solve
+  voidcross fem design --void-width 5 --structure line
+                                               stiffness, play or mass that would make the line span 5
+  voidcross fem connectors                     compute (and cache) the FE of the record's couplings
 """
 
 
@@ -39,8 +42,13 @@ def _add_inputs(p: argparse.ArgumentParser) -> None:
                    help="climb clearance (default: the robot's exposed main-wheel height, thesis 15 mm)")
     g.add_argument("--caster", action="store_true",
                    help="strict alternative: clearance = exposed caster height (thesis 3.3 mm)")
-    g.add_argument("--connectors", choices=("properties", "calibrated"), default="properties",
-                   help="robot connector values: its own record (default) or scaled by the platform calibration")
+    g.add_argument("--connectors", choices=("fe", "properties", "calibrated"), default="fe",
+                   help="connector stiffness: FE where a result applies to the record's geometry, else the "
+                        "record (default fe); the record's hand formulas only (properties); or those scaled by "
+                        "the platform calibration (calibrated). Play always comes from the CAD's clearances")
+    g.add_argument("--measured", metavar="JSON", default=None,
+                   help="measured couplings ({\"front_rear\": {\"rotational_stiffness_nm_per_rad\": ..}}): "
+                        "replace those connectors' stiffness (provenance measured: FILE)")
     g.add_argument("--stiffness-scale", type=float, default=1.0, help="multiply every coupling stiffness")
     g.add_argument("--backlash-scale", type=float, default=1.0, help="multiply every coupling backlash")
     g.add_argument("--mass-scale", type=float, default=1.0, help="multiply the robot's mass and inertia")
@@ -72,7 +80,7 @@ def _opts(args):
                       caster=args.caster, connectors=args.connectors, stiffness_scale=args.stiffness_scale,
                       backlash_scale=args.backlash_scale, mass_scale=args.mass_scale, required_tipping=args.tipping,
                       flexible=args.flexible, calibration_backlash=args.calibration_backlash,
-                      max_width=args.max_width)
+                      max_width=args.max_width, measured=args.measured)
 
 
 def _bar(iterable, desc, total):
@@ -101,12 +109,29 @@ def run_table(args) -> int:
              f"calibrated platform bolt: {res['calibration']['bolt_stiffness_nm_per_rad']:.4g} N m/rad at "
              f"{res['calibration']['bolt_backlash_rad']:g} rad backlash\n"
              + _tapered_line(res.get("thesis_tapering_arches"))
+             + _margins_lines(res.get("structures", []))
              + "\n".join(f"  {k}: {v}" for k, v in res["files"].items()))
     if not args.full_json:
         res.pop("table", None)
     _warn(res)
     emit(args, res, human)
     return 0
+
+
+def _margins_lines(structures: list[dict]) -> str:
+    """One line per structure: threshold, margin, what sets it, range over plausible inputs."""
+    out = []
+    for r in structures:
+        if not r.get("threshold"):
+            out.append(f"  {r['structure']}: crosses no void")
+            continue
+        rg = r.get("range")
+        rng = "" if rg is None else f", range {rg['min']}-{rg['max']} over print clearance and modulus"
+        setby = f", set by {r['set_by']} ({100 * r['set_by_share']:.0f} %)" if "set_by" in r else ""
+        flag = " MARGINAL" if r.get("marginal") else ""
+        flag += ", at --max-width: a lower bound" if r.get("capped_by_max_width") else ""
+        out.append(f"  {r['structure']}: {r['threshold']} (margin {r['margin_mm']:.2f} mm{flag}{setby}{rng})")
+    return ("thresholds, margins and what sets them:\n" + "\n".join(out) + "\n") if out else ""
 
 
 def _tapered_line(t: dict | None) -> str:
@@ -145,11 +170,24 @@ def run_calibrate(args) -> int:
     if props is not None:
         props.get(args.robot)  # an unknown --robot is an input error here too (InputError naming it)
     cal = calibrate(props, args.calibration_backlash).to_dict()
+    measured = ""
+    if args.measured:
+        from structure_fem.connector_sources import load_measured
+
+        robot = (props.get(args.robot) if props is not None else None)
+        got = load_measured(args.measured, robot) if robot is not None else []
+        cal["measured"] = {c.kind: {"rotational_stiffness_nm_per_rad": c.rotational_stiffness_nm_per_rad,
+                                    "axial_stiffness_n_per_m": c.axial_stiffness_n_per_m,
+                                    "backlash_rad": c.backlash_rad, "provenance": c.provenance} for c in got}
+        measured = "".join(f"\nmeasured {args.robot} {k}: {v['rotational_stiffness_nm_per_rad']:.4g} N m/rad, "
+                           f"play {v['backlash_rad'] * 1e3:.3g} mrad ({v['provenance']}); `fem table --measured "
+                           f"{args.measured}` uses it" for k, v in cal["measured"].items())
     human = (f"platform bolt: {cal['bolt_stiffness_nm_per_rad']:.4g} N m/rad at {cal['bolt_backlash_rad']:g} rad "
              f"backlash (record's estimate {cal['bolt_stiffness_estimate_nm_per_rad']:g}); predicted tips mm "
              f"{cal['predicted_tip_mm']}\nfamily (backlash rad -> stiffness, tips 3/4/5 mm):\n"
              + "\n".join(f"  {f['backlash_rad']:.4g} -> {f['stiffness_nm_per_rad']:.4g}: "
-                         f"{f['tip3_mm']:.2f} / {f['tip4_mm']:.2f} / {f['tip5_mm']:.2f}" for f in cal["family"]))
+                         f"{f['tip3_mm']:.2f} / {f['tip4_mm']:.2f} / {f['tip5_mm']:.2f}" for f in cal["family"])
+             + measured)
     emit(args, cal, human)
     return 0
 
@@ -215,6 +253,40 @@ def run_solve(args) -> int:
     return 0
 
 
+def run_design(args) -> int:
+    from structure_fem.design import PARAMETERS, describe, design
+    from structure_fem.runs import make_inputs
+    from voidcross.output import check_int
+
+    check_int(args.void_width, "--void-width", 1, args.max_width)
+    params = tuple(p.strip() for p in args.vary.split(",") if p.strip())
+    bad = [p for p in params if p not in PARAMETERS]
+    if bad or not params:
+        raise InputError(f"--vary {args.vary!r}: use a comma list of {', '.join(PARAMETERS)}")
+    inp, _ = make_inputs(_opts(args))
+    res = design(inp, args.structure, args.void_width, params)
+    emit(args, res, describe(res))
+    return 0
+
+
+def run_connectors(args) -> int:
+    from structure_fem.connector_sources import fe_front_rear_for
+    from structure_fem.runs import load_file
+
+    props = load_file(_opts(args))
+    robot = props.get(args.robot)
+    fe, where = fe_front_rear_for(robot, compute=True)
+    if fe is None:
+        raise InputError(f"no FE model applies to robot {robot.name!r}: {where}")
+    payload = {"robot": robot.name, "kind": fe.kind, "rotational_stiffness_nm_per_rad": fe.rotational_stiffness_nm_per_rad,
+               "axial_stiffness_n_per_m": fe.axial_stiffness_n_per_m, "shear_stiffness_n_per_m": fe.shear_stiffness_n_per_m,
+               "provenance": fe.provenance, "input_hash": fe.input_hash, "from": where, "timings_s": fe.timings_s}
+    emit(args, payload, f"{robot.name} front_rear: {fe.rotational_stiffness_nm_per_rad:.4g} N m/rad, "
+                        f"{fe.axial_stiffness_n_per_m:.3g} N/m axial, {fe.shear_stiffness_n_per_m:.3g} N/m shear "
+                        f"({where}; key {fe.input_hash[:16]})\n  {fe.provenance}")
+    return 0
+
+
 def run_bench(args) -> int:
     from cubot_cad.properties import default_properties
     from structure_fem.model import Config, solve
@@ -235,10 +307,19 @@ def run_bench(args) -> int:
     t0 = time.perf_counter()
     run_table(Path(args.out), RunOptions(), alternative=False, plots=False)
     whole = time.perf_counter() - t0
+    from structure_fem.connector_sources import fe_front_rear_for
+
+    t0 = time.perf_counter()
+    fe, where = fe_front_rear_for(robot)
+    fe_s = time.perf_counter() - t0
+    cold = None if fe is None else fe.timings_s.get("total")
     payload = {"line_15_robots_solve_s": one, "line_15_goal_s": 0.2, "table_s": whole, "table_goal_s": 60.0,
-               "line_15_ratio_to_goal": one / 0.2, "table_ratio_to_goal": whole / 60.0}
+               "line_15_ratio_to_goal": one / 0.2, "table_ratio_to_goal": whole / 60.0,
+               "connector_fe_lookup_s": fe_s, "connector_fe_from": where, "connector_fe_cold_s_when_computed": cold}
     emit(args, payload, f"one 15-robot line solve: {one * 1e3:.1f} ms (goal 200 ms, ratio {one / 0.2:.3f})\n"
-                        f"whole table w=1..30: {whole:.1f} s (goal 60 s, ratio {whole / 60:.3f})")
+                        f"whole table w=1..30: {whole:.1f} s (goal 60 s, ratio {whole / 60:.3f})\n"
+                        f"connector FE (CuBot front-rear): {fe_s * 1e3:.1f} ms from the {where} "
+                        f"(cold solve when it was computed: {cold} s)")
     return 0
 
 
@@ -283,6 +364,20 @@ def register(sub, common) -> None:
     o.add_argument("--plot", default=None, metavar="PNG", help="write a side view")
     _add_inputs(o)
     o.set_defaults(func=run_solve)
+
+    d = fs.add_parser("design", parents=[common], help="connector stiffness, play or mass that makes a structure span W",
+                      epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    d.add_argument("--void-width", type=int, required=True, metavar="W", help="void width in robot widths")
+    d.add_argument("--structure", required=True,
+                   help="structure name as in the table: line, two_line-staggered, arch-4x2-staggered, ...")
+    d.add_argument("--vary", default="stiffness,play,mass", help="comma list of stiffness, play, mass (default all)")
+    _add_inputs(d)
+    d.set_defaults(func=run_design)
+
+    k = fs.add_parser("connectors", parents=[common], help="FE of the record's front-rear coupling (cached)",
+                      epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    _add_inputs(k)
+    k.set_defaults(func=run_connectors)
 
     b = fs.add_parser("bench", parents=[common], help="time one 15-robot solve and the whole table",
                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)

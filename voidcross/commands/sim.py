@@ -35,12 +35,12 @@ RUN_EPILOG = """examples:
   voidcross sim run --preset case-a --robots 8 --void-width 2 --limits thesis --video run.mp4
   voidcross sim run --preset case-d --robots 9 --void-width 3 --snapshots snaps --out results/sim
   voidcross sim run --preset large-void --robots 70 --void-width 8 --limits thesis   (line -> two lines)
-  voidcross sim run --preset large-void-17   (derived limits' widest: line -> 4x2 -> 6x3 -> 8x4 arches, ~3 min)
+  voidcross sim run --preset large-void-8 --robots 306   (the derived limits' widest void: line -> 4x2 -> 6x3 arches)
   voidcross sim run --preset large-void-15 --robots 200 --void-width 15 --limits thesis   (tapering arch-15, ~10 min)
   voidcross sim run --preset large-void-30 --robots 470 --void-width 30 --limits thesis   (tapering arch-30, ~20+ min)
   voidcross sim run --preset large-void-15 --limits thesis --snapshots snaps --frame-every 200   (side view: both feet)
   voidcross sim run --preset my-arena.toml --robots 20 --void-width 4 --set arena_w_cm=800 --debug
-presets: case-a, case-b, case-c, case-d, large-void, large-void-8, large-void-15, large-void-17, large-void-30
+presets: case-a, case-b, case-c, case-d, large-void, large-void-8, large-void-15, large-void-30
 (swarm_sim/presets/*.toml) or a TOML path.
 --limits: derived (structure_fem's packaged limits.json, the default), thesis, or a limits.json path.
 Times in the result are simulated seconds: Ts initial exploration, Ta assembly and crossing,

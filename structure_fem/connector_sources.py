@@ -1,0 +1,267 @@
+"""Where each connector value the model uses comes from: the record's hand formula, the FE, a measurement.
+
+``robot_properties.json`` (written by `cubot_cad`, which must not import this package) holds
+the hand-formula stiffness of every coupling with ``provenance = "hand formula: ..."`` and the
+play per feature from the CAD's clearances. This module puts the finite-element result of
+:mod:`structure_fem.connector_fe` in its place where one exists for the record's geometry:
+
+* :func:`fe_front_rear_for` recognises the CuBot front-rear coupling of a record: it rebuilds
+  the parametric CuBot at the record's print clearance (tension play / 2) and accepts it only
+  if its hand formula gives exactly the record's values (same geometry, same modulus); then it
+  looks the FE result up by the sha256 of geometry + material + mesh (``connector_fe.input_hash``)
+  in the user cache (``~/.cache/voidcross/connector_fe/``) and in the packaged results
+  (``structure_fem/data/connector_fe.json``, written by :func:`write_packaged_fe`). It never
+  solves (a cold FE is 2-4 minutes): ``voidcross fem connectors`` computes a missing one.
+* :func:`resolve` returns the robot record the model then uses: the FE values (axial, pitch
+  and shear stiffness) with ``provenance = "fe: <mesh, element, solver, cache key>"``, the play
+  unchanged (the FE is of the bonded, play-free load path; the play is the CAD's), and a note
+  per connector saying what was used and why.
+* :func:`load_measured` reads a user's measured coupling (JSON) with
+  ``provenance = "measured: <file>"``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import replace
+from pathlib import Path
+
+from cubot_cad.properties import ConnectorProperties, RobotProperties
+
+from .errors import InputError
+
+#: The FE results shipped with the package (a list of ``ConnectorFE.to_dict()``).
+PACKAGED_FE = Path(__file__).parent / "data" / "connector_fe.json"
+SOURCES = ("fe", "properties")
+
+
+def _clearance_of(rec: ConnectorProperties) -> float:
+    """The print clearance (mm) a front-rear record was made with: its tension play is two clearances."""
+    t = rec.play_of("tension")
+    return 0.2 if t is None else round(t.play_m * 1e3 / 2, 9)
+
+
+def _same(a: float, b: float) -> bool:
+    return math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-15)
+
+
+def cubot_for_record(robot: RobotProperties):
+    """The parametric :class:`cubot_cad.cubot.CuBot` whose hand formula reproduces the record's
+    front-rear coupling exactly, or ``(None, why not)``."""
+    if robot.name != "cubot":
+        return None, "no FE model of this robot's couplings yet (only of the CuBot's front-rear one)"
+    try:
+        rec = robot.connector("front_rear")
+    except Exception:  # noqa: BLE001 - a record without one
+        return None, "the record has no front_rear coupling"
+    from cubot_cad.cubot import CuBot
+
+    try:
+        cub = CuBot(clearance_mm=_clearance_of(rec))
+    except Exception as exc:  # noqa: BLE001 - a clearance outside what the CAD can build
+        return None, f"the CAD cannot rebuild the record's front-rear coupling ({exc})"
+    hand = cub.connector_properties(robot.youngs_modulus_pa, {"front_rear": rec.gap_m * 1e3})[0]
+    if not all(_same(getattr(hand, f), getattr(rec, f)) for f in
+               ("rotational_stiffness_nm_per_rad", "axial_stiffness_n_per_m", "backlash_rad", "height_m")):
+        return None, ("the record's front-rear values are not the parametric CuBot's hand formula at its "
+                      "clearance and modulus (edited or another geometry): no FE result applies")
+    return cub, ""
+
+
+def fe_key(robot: RobotProperties, settings=None):
+    """``(cubot, material, key)`` of the FE that applies to the record, or ``(None, why, None)``."""
+    from . import connector_fe as cfe
+
+    cub, why = cubot_for_record(robot)
+    if cub is None:
+        return None, why, None
+    try:
+        mat = cfe.Material.from_cubot_cad(robot.material.lower())
+    except Exception as exc:  # noqa: BLE001
+        return None, f"material {robot.material!r} has no FE material ({exc})", None
+    if not _same(mat.E_pa, robot.youngs_modulus_pa):
+        return None, (f"the record's modulus {robot.youngs_modulus_pa:.4g} Pa is not the FE material's "
+                      f"{mat.E_pa:.4g} Pa"), None
+    settings = cfe.MeshSettings() if settings is None else settings
+    return (cub, mat, settings), "", cfe.input_hash(cfe.FrontRearGeometry.from_cubot(cub), mat, settings)
+
+
+def packaged_fe() -> list[dict]:
+    if not PACKAGED_FE.is_file():
+        return []
+    try:
+        data = json.loads(PACKAGED_FE.read_text())
+    except ValueError as exc:
+        raise InputError(f"{PACKAGED_FE} is not valid JSON: {exc}") from None
+    return data if isinstance(data, list) else []
+
+
+def lookup_fe(key: str, cache_dir=None):
+    """The FE result of ``key`` from the cache or the packaged results (None if neither has it)."""
+    from . import connector_fe as cfe
+
+    base = Path(cache_dir) if cache_dir is not None else cfe.default_cache_dir()
+    f = base / f"{key}.json"
+    if f.is_file():
+        try:
+            d = json.loads(f.read_text())
+            if d.get("input_hash") == key:
+                return cfe.ConnectorFE.from_dict(d, cache_hit=True), "user cache"
+        except (OSError, ValueError, TypeError):
+            pass
+    for d in packaged_fe():
+        if d.get("input_hash") == key:
+            return cfe.ConnectorFE.from_dict(d, cache_hit=True), f"packaged structure_fem/data/{PACKAGED_FE.name}"
+    return None, ""
+
+
+def fe_front_rear_for(robot: RobotProperties, cache_dir=None, compute: bool = False):
+    """``(ConnectorFE or None, where it came from or why not)`` for the record's front-rear coupling."""
+    from . import connector_fe as cfe
+
+    what, why, key = fe_key(robot)
+    if key is None:
+        return None, why
+    fe, where = lookup_fe(key, cache_dir)
+    if fe is not None:
+        return fe, where
+    if not compute:
+        return None, (f"no FE result for this geometry (key {key[:12]}) in the cache or the package: "
+                      "`voidcross fem connectors` computes it (2-4 min cold)")
+    cub, mat, settings = what
+    return cfe.front_rear_fe(cub, mat, settings, cache_dir=cache_dir), "computed now (cached)"
+
+
+def fe_provenance(fe) -> str:
+    return f"{fe.provenance}; solver scipy SuperLU (splu, COLAMD); cache key {fe.input_hash[:16]}"
+
+
+def with_fe(rec: ConnectorProperties, fe) -> ConnectorProperties:
+    """The record's coupling with the FE's stiffness (play, heights and gap from the record)."""
+    return replace(rec, rotational_stiffness_nm_per_rad=fe.rotational_stiffness_nm_per_rad,
+                   axial_stiffness_n_per_m=fe.axial_stiffness_n_per_m,
+                   shear_stiffness_n_per_m=fe.shear_stiffness_n_per_m
+                   if math.isfinite(fe.shear_stiffness_n_per_m) else None,
+                   provenance=fe_provenance(fe))
+
+
+def resolve(robot: RobotProperties, source: str = "fe", cache_dir=None,
+            measured: str | None = None) -> tuple[RobotProperties, dict[str, str]]:
+    """The record the model uses and, per connector kind, what its values are and why.
+
+    ``source="fe"``: FE results where one applies (:func:`fe_front_rear_for`), else the record;
+    ``"properties"``: the record as it is. ``measured``: a JSON file of measured couplings
+    (:func:`load_measured`) that replaces those connectors last."""
+    if source not in SOURCES:
+        raise InputError(f"connector source {source!r} is not one of {', '.join(SOURCES)}")
+    notes: dict[str, str] = {}
+    if source == "fe":
+        fe, where = fe_front_rear_for(robot, cache_dir)
+        if fe is not None:
+            robot = _swap(robot, with_fe(robot.connector("front_rear"), fe))
+            notes["front_rear"] = f"fe (result found in the {where})"
+        elif any(c.kind == "front_rear" for c in robot.connectors):
+            notes["front_rear"] = f"record (hand formula): {where}"
+    if measured is not None:
+        for c in load_measured(measured, robot):
+            robot = _swap(robot, c)
+            notes[c.kind] = f"measured ({measured})"
+    for c in robot.connectors:
+        notes.setdefault(c.kind, "record")
+    return robot, notes
+
+
+def _swap(robot: RobotProperties, c: ConnectorProperties) -> RobotProperties:
+    """``robot`` with ``c`` in place of its connector of the same kind (order kept)."""
+    return replace(robot, connectors=tuple(c if x.kind == c.kind else x for x in robot.connectors))
+
+
+MEASURED_FIELDS = ("rotational_stiffness_nm_per_rad", "axial_stiffness_n_per_m", "shear_stiffness_n_per_m")
+
+
+def load_measured(path: str, robot: RobotProperties) -> list[ConnectorProperties]:
+    """A measured coupling file: ``{"<kind>": {"rotational_stiffness_nm_per_rad": .., "axial_stiffness_n_per_m":
+    .., ["shear_stiffness_n_per_m": ..], ["note": ..]}}``; each replaces that connector's stiffness
+    (play stays the CAD's) with ``provenance = "measured: <file>[; note]"``."""
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"--measured {path}: file not found")
+    try:
+        data = json.loads(p.read_text())
+    except ValueError as exc:
+        raise InputError(f"--measured {path} is not valid JSON: {exc}") from None
+    if not isinstance(data, dict) or not data:
+        raise InputError(f"--measured {path}: expected an object of connector kinds")
+    out = []
+    for kind, vals in data.items():
+        if kind not in {c.kind for c in robot.connectors}:
+            raise InputError(f"--measured {path}: robot {robot.name!r} has no {kind!r} connector "
+                             f"(has: {', '.join(c.kind for c in robot.connectors)})")
+        rec = robot.connector(kind)
+        if not isinstance(vals, dict):
+            raise InputError(f"--measured {path}: {kind} must be an object, got {vals!r}")
+        unknown = set(vals) - set(MEASURED_FIELDS) - {"note", "moment_rotation"}
+        if unknown:
+            raise InputError(f"--measured {path}: {kind} has unknown field(s) {', '.join(sorted(unknown))}")
+        kw = {}
+        fit = ""
+        if "moment_rotation" in vals:
+            k, b, n = fit_moment_rotation(vals["moment_rotation"], f"--measured {path}: {kind}.moment_rotation")
+            kw.update(rotational_stiffness_nm_per_rad=k, backlash_rad=b)
+            fit = f"; fit of {n} moment-rotation points: k = {k:.4g} N m/rad, play {b * 1e3:.3g} mrad"
+        for f in MEASURED_FIELDS:
+            if f in vals:
+                v = vals[f]
+                if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+                    raise InputError(f"--measured {path}: {kind}.{f} must be a number > 0, got {v!r}")
+                kw[f] = float(v)
+        if not kw:
+            raise InputError(f"--measured {path}: {kind} gives none of {', '.join(MEASURED_FIELDS)}, "
+                             "moment_rotation")
+        note = vals.get("note")
+        out.append(replace(rec, **kw, provenance=f"measured: {p}" + fit + (f"; {note}" if note else "")))
+    return out
+
+
+def fit_moment_rotation(points, where: str) -> tuple[float, float, int]:
+    """``(k, play, n)`` from measured ``[[moment_nm, rotation_rad], ...]`` of a coupling loaded one
+    way (both > 0): the least-squares line ``rotation = play + moment / k`` (the dead band is taken
+    up first, then the spring). Needs at least two distinct moments and a rising line."""
+    if not isinstance(points, list) or len(points) < 2:
+        raise InputError(f"{where}: give at least two [moment_nm, rotation_rad] points")
+    ms, ts = [], []
+    for i, pt in enumerate(points):
+        ok = (isinstance(pt, list) and len(pt) == 2
+              and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in pt))
+        if not ok or pt[0] <= 0 or pt[1] <= 0:
+            raise InputError(f"{where}[{i}]: expected [moment_nm > 0, rotation_rad > 0], got {pt!r}")
+        ms.append(float(pt[0]))
+        ts.append(float(pt[1]))
+    n = len(ms)
+    mm, mt = sum(ms) / n, sum(ts) / n
+    sxx = sum((m - mm) ** 2 for m in ms)
+    if sxx <= 0:
+        raise InputError(f"{where}: the moments are all equal ({ms[0]:g} N m): no stiffness can be fitted")
+    slope = sum((m - mm) * (t - mt) for m, t in zip(ms, ts, strict=True)) / sxx
+    if slope <= 0:
+        raise InputError(f"{where}: the rotation does not grow with the moment (slope {slope:.3g} rad/N m)")
+    return 1.0 / slope, max(0.0, mt - slope * mm), n
+
+
+def write_packaged_fe(cache_dir=None) -> Path:
+    """Copy the FE result that applies to the packaged CuBot record (from the cache, computing it
+    if missing) into ``structure_fem/data/connector_fe.json``."""
+    from cubot_cad.properties import default_properties
+
+    robot = default_properties().get("cubot")
+    fe, where = fe_front_rear_for(robot, cache_dir, compute=True)
+    if fe is None:
+        raise InputError(f"no FE result applies to the packaged CuBot record: {where}")
+    entries = [d for d in packaged_fe() if d.get("input_hash") != fe.input_hash] + [fe.to_dict()]
+    PACKAGED_FE.write_text(json.dumps(entries, indent=1, sort_keys=True) + "\n")
+    return PACKAGED_FE
+
+
+if __name__ == "__main__":  # pragma: no cover
+    print(write_packaged_fe())

@@ -1,0 +1,238 @@
+"""Thresholds with their margin, what sets them, and their range over plausible inputs (SI in, mm out).
+
+For each structure of a :class:`~structure_fem.study.Derivation` at its threshold ``w``
+(its longest cantilever, minimal rows):
+
+* **margin** = climb clearance - tip deflection at ``w`` (>= 0 by the definition of the
+  threshold) and the same one width beyond (< 0 unless the search stopped at the widest
+  width studied);
+* **decomposition of the tip** along the bottom line of bodies, from the rear body (the
+  *root*) to the front body. To first order the front corner's drop is the root's rigid
+  motion (``support``: sinking into the ledge springs, and turning as the rear lifts, the
+  tipping mode) plus, for every front-rear joint ahead of it (on the ground too: the joints
+  behind the edge open their play as the structure turns about the edge), its relative
+  rotation times its distance to the tip plus its relative vertical slide. Each joint's rotation and slide is split into the part inside its own
+  play (``play``: the pitch dead band and the pins' vertical slip) and the rest
+  (``elastic``). The three parts sum to the solved (nonlinear) tip to within the
+  small-angle error (a test holds them to 1 %).
+* **play, counterfactually**: the tip with every play of every coupling set to zero (same
+  rows), and ``play_total`` = tip - that. In an arch the pins' tension gaps of the upper layer
+  and the key and rail play turn the bottom joints beyond their own pitch band, so they show
+  as ``elastic`` in the chain; ``play_total`` counts them. In an arch the rear body's motion
+  (``support``) is large: the part on the ground turns about the edge as a block, each robot on
+  its front corner, the pins' vertical slip letting each tilt (play-enabled, and counted in
+  ``play_total``). ``set_by`` names the larger of
+  ``play_total`` and ``support``, or ``elastic``, by share of the tip.
+* **range** over plausible inputs, one factor at a time and the combined extremes: print
+  clearance 0.1 and 0.4 mm (every play scaled by clearance / the record's clearance), printed
+  instead of bulk modulus (every stiffness x ``PRINTED_MODULUS_FACTOR``). Each variant's
+  threshold is found by stepping from the base threshold (the tip grows with the width).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+from .errors import SolverFailure
+from .model import Config, StaticResult, solve
+from .study import Curve, Derivation, StudyInputs, min_rows
+
+#: Printed (FDM) ABS/PLA is less stiff than the datasheet's bulk value the record and the FE use:
+#: 0.7 is the low end quoted for 100 % infill FDM parts (assumption; the print settings'
+#: infill would lower it further).
+PRINTED_MODULUS_FACTOR = 0.7
+#: Print clearances (mm) the range covers: a tight and a loose printer.
+PRINT_CLEARANCE_RANGE_MM = (0.1, 0.4)
+#: A threshold is flagged marginal when its margin is below this fraction of the climb clearance.
+MARGINAL_FRACTION = 0.05
+
+
+def record_clearance_mm(inp: StudyInputs) -> float:
+    """The print clearance the record's play was made with: the front-rear tension play is two
+    clearances in series (pin head + blade, ``cubot_cad.couplings.front_rear_play_mm``)."""
+    fr = inp.connectors.front_rear
+    t = fr.play_x[1]
+    return t * 1e3 / 2 if t > 0 else 0.2
+
+
+def _no_play(inp: StudyInputs) -> StudyInputs:
+    return replace(inp, connectors=inp.connectors.scaled(1.0, 0.0))
+
+
+def chain_decomposition(res: StaticResult) -> dict:
+    """The tip split into ``support`` / ``play`` / ``elastic`` (mm) along the bottom line (see the
+    module docstring), with ``sum_mm`` and the solved ``tip_mm`` beside it."""
+    lay = res.layout
+    bodies = lay.bodies
+    ref = [b.com_m for b in bodies]
+    dq = [(res.com_m[i][0] - ref[i][0], res.com_m[i][1] - ref[i][1], res.rotation_rad[i]) for i in range(len(bodies))]
+    front = bodies[lay.front_body]
+    x_tip = front.x_m + lay.length_m / 2
+    chain = sorted((i for i, b in enumerate(bodies) if b.layer == 0 and b.parity == 0), key=lambda i: bodies[i].row)
+    root = chain[-1]  # the rear body: every joint of the line, on the ground too, is in the chain
+    ahead = chain[:-1]
+
+    def drop_at(i: int, x: float) -> float:  # first-order downward motion of body i's point at x (z = its base)
+        dx, dz, phi = dq[i]
+        return -(dz + phi * (x - ref[i][0]))
+
+    support = drop_at(root, x_tip)
+    by_pair = {}
+    for c in lay.couplings:
+        if c.role == "front_rear":
+            by_pair[(c.a, c.b)] = c
+    play = elastic = 0.0
+    joints = []
+    for i in ahead:  # joint between i (front) and the body behind it
+        rear = next(j for j in chain if bodies[j].row == bodies[i].row + 1)
+        c = by_pair[(rear, i)]
+        xj = c.point_m[0]
+        theta = dq[i][2] - dq[rear][2]
+        slide = (dq[i][1] + dq[i][2] * (xj - ref[i][0])) - (dq[rear][1] + dq[rear][2] * (xj - ref[rear][0]))
+        b = c.joint.backlash_rad
+        lo, hi = c.joint.play_z
+        th_play = max(-b, min(b, theta))
+        sl_play = max(-lo, min(hi, slide))
+        lever = x_tip - xj
+        p = -(th_play * lever + sl_play)
+        e = -((theta - th_play) * lever + (slide - sl_play))
+        play += p
+        elastic += e
+        joints.append({"row": bodies[i].row, "rotation_rad": theta, "slide_m": slide,
+                       "play_mm": 1e3 * p, "elastic_mm": 1e3 * e})
+    total = support + play + elastic
+    return {"tip_mm": res.tip_deflection_mm, "support_mm": 1e3 * support, "play_mm": 1e3 * play,
+            "elastic_mm": 1e3 * elastic, "sum_mm": 1e3 * total, "joints": joints}
+
+
+def _passes(s, w: int, inp: StudyInputs) -> bool | None:
+    try:
+        _rows, res = min_rows(s, w, inp)
+    except SolverFailure:
+        return None
+    return res.tip_deflection_m <= inp.clearance_m
+
+
+def threshold_from(s, inp: StudyInputs, start: int, max_steps: int = 12) -> tuple[int, str]:
+    """The threshold of ``s`` under ``inp``, stepping from ``start`` (a non-converged width counts
+    as failing); ``(threshold, note)``, the note non-empty when the search stopped early."""
+    w = max(start, 1)
+    ok = _passes(s, w, inp)
+    if ok:
+        for _ in range(max_steps):
+            if w + 1 > inp.max_width or not _passes(s, w + 1, inp):
+                return w, ""
+            w += 1
+        return w, f"at least {w} (search stopped after {max_steps} steps)"
+    for _ in range(max_steps):
+        w -= 1
+        if w < 1:
+            return 0, ""
+        if _passes(s, w, inp):
+            return w, ""
+    return w, f"at most {w} (search stopped after {max_steps} steps)"
+
+
+def _variants(inp: StudyInputs) -> list[tuple[str, StudyInputs]]:
+    c0 = record_clearance_mm(inp)
+    lo, hi = PRINT_CLEARANCE_RANGE_MM
+    soft = PRINTED_MODULUS_FACTOR
+
+    def v(play: float, stiff: float) -> StudyInputs:
+        return replace(inp, connectors=inp.connectors.scaled(stiff, play))
+
+    return [(f"print clearance {lo:g} mm", v(lo / c0, 1.0)), (f"print clearance {hi:g} mm", v(hi / c0, 1.0)),
+            (f"printed modulus x{soft:g}", v(1.0, soft)),
+            (f"print clearance {hi:g} mm and printed modulus x{soft:g}", v(hi / c0, soft))]
+
+
+def structure_report(d: Derivation, c: Curve, ranges: bool = True) -> dict:
+    """Threshold, margins, decomposition, bodies and range of one structure."""
+    inp = d.inputs
+    s = c.structure
+    clear = inp.clearance_m * 1e3
+    w = c.threshold
+    out: dict = {"structure": s.name, "threshold": w, "bodies": "flexible" if inp.flexible else "rigid",
+                 "clearance_mm": clear}
+    if w < 1:
+        out.update({"margin_mm": None, "note": "crosses no void within the clearance"})
+        return out
+    i = c.widths.index(w)
+    out["margin_mm"] = round(clear - c.tip_mm[i], 4)
+    out["tip_mm"] = round(c.tip_mm[i], 4)
+    out["rows"] = c.rows[i]
+    out["robots"] = c.robots[i]
+    out["tipping_factor"] = round(c.tipping[i], 4)
+    out["margin_beyond_mm"] = (round(clear - c.tip_mm[c.widths.index(w + 1)], 4) if w + 1 in c.widths else None)
+    out["marginal"] = out["margin_mm"] < MARGINAL_FRACTION * clear
+    #: The search stopped at the widest width studied: the threshold (and its range) is a lower bound.
+    out["capped_by_max_width"] = w >= inp.max_width
+    try:
+        res = solve(Config(s, c.rows[i], w, w), inp.robot, inp.connectors, inp.flexible)
+        dec = chain_decomposition(res)
+        free = solve(Config(s, c.rows[i], w, w), inp.robot, _no_play(inp).connectors, inp.flexible)
+        dec["without_play_tip_mm"] = free.tip_deflection_mm
+        dec["play_total_mm"] = res.tip_deflection_mm - free.tip_deflection_mm
+        shares = {"play": dec["play_total_mm"], "support (tipping about the edge)": dec["support_mm"]}
+        shares["elastic"] = res.tip_deflection_mm - sum(shares.values())
+        out["set_by"] = max(shares, key=lambda k: shares[k])
+        out["set_by_share"] = round(shares[out["set_by"]] / res.tip_deflection_mm, 3)
+        out["decomposition"] = {k: (round(v, 4) if isinstance(v, float) else v) for k, v in dec.items()
+                                if k != "joints"}
+    except SolverFailure as exc:
+        out["decomposition"] = {"converged": False, "reason": str(exc)}
+    if ranges:
+        rng = []
+        for name, v in _variants(inp):
+            t, note = threshold_from(s, v, w)
+            rng.append({"inputs": name, "threshold": t, **({"note": note} if note else {})})
+        ts = [r["threshold"] for r in rng] + [w]
+        out["range"] = {"min": min(ts), "max": max(ts), "variants": rng,
+                        "record_print_clearance_mm": round(record_clearance_mm(inp), 4)}
+    return out
+
+
+def report(d: Derivation, ranges: bool = True, names: list[str] | None = None) -> list[dict]:
+    """:func:`structure_report` of every curve (or those named)."""
+    return [structure_report(d, c, ranges) for c in d.curves if names is None or c.structure.name in names]
+
+
+def markdown(rep: list[dict]) -> str:
+    """The section of the table's Markdown: thresholds, margins, what sets them, ranges."""
+    if not rep:
+        return ""
+    clear = rep[0]["clearance_mm"]
+    lines = ["## Thresholds, margins and what sets them", "",
+             f"Margin = {clear:g} mm clearance - tip at the threshold; **marginal** when below "
+             f"{100 * MARGINAL_FRACTION:g} % of the clearance ({MARGINAL_FRACTION * clear:.2f} mm). Decomposition "
+             "of the tip along the bottom line (support = the rear body's motion: sinking, lifting; play = inside the joints' "
+             "own pitch band and vertical slip; elastic = the rest); play (all) = tip - tip with every play set "
+             f"to zero. Range: print clearance {PRINT_CLEARANCE_RANGE_MM[0]:g}-{PRINT_CLEARANCE_RANGE_MM[1]:g} mm, "
+             f"printed modulus x{PRINTED_MODULUS_FACTOR:g}, and both.", "",
+             "| structure | threshold | margin mm | beyond mm | tip mm | support / play / elastic mm | "
+             "play (all) mm | set by | range | bodies |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rep:
+        if r["threshold"] < 1:
+            lines.append(f"| {r['structure']} | 0 | - | - | - | - | - | - | - | {r['bodies']} |")
+            continue
+        dec = r.get("decomposition", {})
+        parts = ("-" if "support_mm" not in dec else
+                 f"{dec['support_mm']:.2f} / {dec['play_mm']:.2f} / {dec['elastic_mm']:.2f}")
+        flag = " **marginal**" if r["marginal"] else ""
+        beyond = "-" if r["margin_beyond_mm"] is None else f"{r['margin_beyond_mm']:.2f}"
+        rg = r.get("range")
+        rng = "-" if rg is None else (f"{rg['min']}" if rg["min"] == rg["max"] else f"{rg['min']}-{rg['max']}")
+        pa = "-" if "play_total_mm" not in dec else f"{dec['play_total_mm']:.2f}"
+        setby = r.get("set_by", "-")
+        if "set_by_share" in r:
+            setby += f" ({100 * r['set_by_share']:.0f} %)"
+        cap = " (>=, at the widest width studied)" if r.get("capped_by_max_width") else ""
+        lines.append(f"| {r['structure']} | {r['threshold']}{cap} | {r['margin_mm']:.2f}{flag} | {beyond} | "
+                     f"{r['tip_mm']:.2f} | {parts} | {pa} | {setby} | {rng} | {r['bodies']} |")
+    return "\n".join(lines) + "\n"
+
+
+def _finite(v) -> bool:
+    return isinstance(v, float) and math.isfinite(v)

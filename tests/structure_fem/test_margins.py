@@ -1,0 +1,73 @@
+"""Margins, what sets a threshold (decomposition of the tip), and its range (issue 12, item 6)."""
+
+from __future__ import annotations
+
+import pytest
+
+pytest.importorskip("exudyn")
+
+from structure_fem import margins  # noqa: E402
+from structure_fem.runs import RunOptions, make_inputs  # noqa: E402
+from structure_fem.structures import Structure  # noqa: E402
+from structure_fem.study import Derivation, structure_curve  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def line_report():
+    inp, _ = make_inputs(RunOptions())
+    c = structure_curve(Structure("line"), inp, extra=1)
+    return margins.structure_report(Derivation(inp, [c], []), c)
+
+
+def test_margin_is_non_negative_at_the_threshold_and_negative_one_width_beyond(line_report):
+    r = line_report
+    assert r["threshold"] >= 1
+    assert r["margin_mm"] >= 0
+    assert r["margin_beyond_mm"] < 0
+    assert r["margin_mm"] == pytest.approx(r["clearance_mm"] - r["tip_mm"], abs=1e-3)
+    assert r["bodies"] == "rigid"
+
+
+def test_the_decomposition_sums_to_the_tip_within_one_percent(line_report):
+    d = line_report["decomposition"]
+    assert d["support_mm"] + d["play_mm"] + d["elastic_mm"] == pytest.approx(d["sum_mm"], abs=2e-4)
+    assert d["sum_mm"] == pytest.approx(d["tip_mm"], rel=0.01)
+    assert d["play_mm"] > 0 and d["elastic_mm"] > 0
+    # the counterfactual: without any play the tip is what the elastic joints and supports give
+    assert 0 < d["without_play_tip_mm"] < d["tip_mm"]
+    assert d["play_total_mm"] == pytest.approx(d["tip_mm"] - d["without_play_tip_mm"], abs=1e-3)
+
+
+def test_the_line_is_set_by_play(line_report):
+    """With the CAD's 0.4 mm tension gap over a 37 mm lever, the line's tip at its threshold is
+    mostly play (the issue's review found 13.9 of 14.87 mm with half that play)."""
+    assert line_report["set_by"] == "play" and line_report["set_by_share"] > 0.5
+
+
+def test_the_range_brackets_the_threshold_and_goes_the_physical_way(line_report):
+    rg = line_report["range"]
+    by = {v["inputs"]: v["threshold"] for v in rg["variants"]}
+    t = line_report["threshold"]
+    assert rg["min"] <= t <= rg["max"]
+    assert by["print clearance 0.4 mm"] <= t <= by["print clearance 0.1 mm"]
+    assert by["printed modulus x0.7"] <= t
+    assert by["print clearance 0.4 mm and printed modulus x0.7"] == rg["min"]
+    assert rg["record_print_clearance_mm"] == pytest.approx(0.2)
+
+
+def test_markdown_flags_a_marginal_threshold(line_report):
+    md = margins.markdown([line_report])
+    (row,) = [ln for ln in md.splitlines() if ln.startswith("| line |")]
+    assert ("**marginal**" in row) == line_report["marginal"]
+    tight = dict(line_report, margin_mm=0.1, marginal=0.1 < margins.MARGINAL_FRACTION * 15.0)
+    assert "| 0.10 **marginal** |" in margins.markdown([tight])
+    assert f"below {100 * margins.MARGINAL_FRACTION:g} % of the clearance" in md
+
+
+def test_a_threshold_at_the_widest_width_studied_is_marked_as_a_lower_bound(line_report):
+
+    inp, _ = make_inputs(RunOptions(max_width=2))
+    c = structure_curve(Structure("line"), inp, extra=1)
+    r = margins.structure_report(Derivation(inp, [c], []), c, ranges=False)
+    assert r["threshold"] == 2 and r["capped_by_max_width"] and r["margin_beyond_mm"] is None
+    assert line_report["capped_by_max_width"] is False
