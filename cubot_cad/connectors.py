@@ -72,6 +72,18 @@ class FrontRearSpec:
     blade_turn_deg: float = 15.0
     #: Pin length beyond the robot face; None = latch depth less one clearance (zero-gap fit).
     pin_protrusion_mm: float | None = None
+    #: Lead-ins (45 deg) that let a misaligned pin find its hole: a chamfer on the pin tip (radial = axial
+    #: size) and a countersink on the pin holes' mouths in the latch-side wall. Together with the clearance
+    #: they set the lateral capture (``capture_estimate_mm``); 0 = no lead-in (sharp edges).
+    pin_chamfer_mm: float = 0.6
+    hole_chamfer_mm: float = 0.8
+    #: The blade's drive: a ``drive_shaft_mm`` D-shaft (flat ``drive_flat_mm`` across, i.e. 1 mm deep)
+    #: from the latch servo's coupler through the rear plate's bearing hole (round, shaft + 2 clearances)
+    #: into the blade's D bore (the D offset by the clearance): the flat turns the blade.
+    drive_shaft_mm: float = 5.0
+    drive_flat_mm: float = 4.0
+    #: Screws through the block stack into the wall (nut behind): clearance holes from the fastener table.
+    screw_size: str = "M3"
     clearance_mm: float = DEFAULT_CLEARANCE_MM
 
     def __post_init__(self) -> None:
@@ -113,13 +125,67 @@ class FrontRearSpec:
              f"block_mm {self.block_mm:g} is too small for the blade cavity (blade_radius_mm {self.blade_radius_mm:g})")
         need(at_least(self.block_mm / 2, self.pin_circle_mm + self.head_diameter_mm / 2 + c + MIN_WALL_MM),
              f"block_mm {self.block_mm:g} is too small for pin_circle_mm {self.pin_circle_mm:g}")
+        for n in ("pin_chamfer_mm", "hole_chamfer_mm"):
+            v = getattr(self, n)
+            need(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v >= 0,
+                 f"{n} must be a length >= 0 mm (0 = no lead-in), got {v!r}")
+        need(at_most(self.pin_chamfer_mm, self.pin_diameter_mm / 2 - 1.0),
+             f"pin_chamfer_mm {self.pin_chamfer_mm:g} leaves the {self.pin_diameter_mm:g} mm pin a tip face under 2 mm")
+        from .fasteners import thread as _thread
+
+        head = _thread(self.screw_size).countersunk_head_diameter_mm
+        need(head is not None,
+             f"screw_size {self.screw_size!r}: the block screws are ISO 10642 countersunk, which starts at M3")
+        from .fasteners import clearance_hole_mm as _hole
+
+        sink = (head + NOZZLE_MM - _hole(self.screw_size)) / 2  # 90 deg: depth = radial step
+        need(at_most(sink, self.wall_mm - MIN_WALL_MM / 2),
+             f"wall_mm {self.wall_mm:g} is too thin for the {self.screw_size} countersunk block screws "
+             f"({sink:.2f} mm deep)")
+        need(at_most(self.hole_chamfer_mm, self.wall_mm / 2),
+             f"hole_chamfer_mm {self.hole_chamfer_mm:g} countersinks more than half the {self.wall_mm:g} mm wall")
+        need(self.drive_shaft_mm / 2 < self.drive_flat_mm < self.drive_shaft_mm - 0.2,
+             f"drive_flat_mm {self.drive_flat_mm:g} must lie between the radius and the diameter (less 0.2 mm) "
+             f"of the {self.drive_shaft_mm:g} mm drive shaft")
+        need(at_least(self.pin_circle_mm - self.pin_diameter_mm / 2 - c - self.drive_shaft_mm / 2 - c, MIN_WALL_MM),
+             f"drive_shaft_mm {self.drive_shaft_mm:g} leaves no wall to the pin holes (pin_circle_mm {self.pin_circle_mm:g})")
+        from .fasteners import thread
+
+        thread(self.screw_size)
         if self.pin_protrusion_mm is not None:
             _pos_ok("pin_protrusion_mm", self.pin_protrusion_mm)
             need(at_least(self.pin_protrusion_mm, self.blade_end_mm + 1.0),
                  f"pin_protrusion_mm {self.pin_protrusion_mm:g} does not reach past the latch blade "
                  f"(needs >= {self.blade_end_mm + 1.0:g} mm)")
+        tip_len = self.protrusion_mm - (self.design_gap_mm + self.wall_mm + 2 * self.plate_mm + self.separation_mm)
+        need(at_most(self.pin_chamfer_mm, tip_len - 0.5),
+             f"pin_chamfer_mm {self.pin_chamfer_mm:g} is longer than the pin's {tip_len:.2f} mm tip beyond its groove "
+             "allows (keep 0.5 mm of full diameter)")
 
     # -- derived ------------------------------------------------------------
+    @property
+    def screw_hole_mm(self) -> float:
+        """Diameter of the block's screw holes: ISO 273 medium clearance for ``screw_size``."""
+        from .fasteners import clearance_hole_mm
+
+        return clearance_hole_mm(self.screw_size)
+
+    @property
+    def pin_stack_mm(self) -> float:
+        """What the block screws clamp on the pin side: wall + plates d, c, b, a."""
+        return self.wall_mm + 3 * self.plate_mm + self.locking_plate_mm
+
+    @property
+    def latch_stack_mm(self) -> float:
+        """What the block screws clamp on the latch side: wall + plates a, b, c, e."""
+        return self.wall_mm + 2 * self.plate_mm + self.separation_mm + self.rear_plate_mm
+
+    @property
+    def capture_estimate_mm(self) -> float:
+        """Lateral offset the lead-ins are sized to take up: clearance + pin chamfer + hole countersink
+        (the docking model measures the real capture, :mod:`cubot_cad.capture`)."""
+        return self.clearance_mm + self.pin_chamfer_mm + self.hole_chamfer_mm
+
     @property
     def head_diameter_mm(self) -> float:
         """Pin head diameter: the pin hole (pin + 2 clearances) plus the shoulder on each side."""
@@ -188,16 +254,76 @@ class FrontRearSpec:
         s = self.block_mm / 2 - 3.5
         return [(sy * s, sz * s) for sy in (-1, 1) for sz in (-1, 1)]
 
-    def wall_cutters(self, kind: str = "pin") -> list:
-        """Cutters for the robot wall behind which a block sits (set frame): pin holes, IR windows, screws."""
+    @property
+    def screw_countersink_mm(self) -> float:
+        """Diameter of the 90 deg countersinks in the docking face for the block screws: the ISO 10642
+        head plus half a nozzle width each side (the heads sit flush, the faces still touch; a fixed
+        allowance for a bought part, not the print clearance of two printed parts)."""
+        from .fasteners import thread
+
+        return thread(self.screw_size).countersunk_head_diameter_mm + NOZZLE_MM
+
+    @property
+    def drive_play_deg(self) -> float:
+        """Angular play of the D-shaft in the blade's bore (the flat's corners reach the bore's flat)."""
+        r = self.drive_shaft_mm / 2
+        d = self.drive_flat_mm - r
+        h = math.sqrt(r * r - d * d)
+        # d cos t + h sin t = d + c  ->  t = asin((d + c) / rho) - atan2(d, h)
+        rho = math.hypot(d, h)
+        return math.degrees(math.asin(min(1.0, (d + self.clearance_mm) / rho)) - math.atan2(d, h))
+
+    def d_profile(self, x0: float, length: float, offset_mm: float = 0.0):
+        """The drive shaft's D cross-section along +x from ``x0`` (set frame, on the block axis), grown by
+        ``offset_mm`` on every side: the shaft itself (0) or the blade's bore (the clearance). The flat
+        faces +y before the blade turns."""
         from .shapes import X, box, cyl
 
+        r = self.drive_shaft_mm / 2 + offset_mm
+        flat = self.drive_flat_mm - self.drive_shaft_mm / 2 + offset_mm
+        return cyl(r, length, (x0, 0, 0), X).intersect(box(x0 - 1, x0 + length + 1, -r - 1, flat, -r - 1, r + 1))
+
+    def _wall_common(self) -> list:
+        from .shapes import X, box, cone, cyl
+
         w = self.wall_mm
-        out = [cyl(self.pin_diameter_mm / 2 + self.clearance_mm, w + 0.2, (-w - 0.1, y, z), X)
-               for y, z in self.pin_positions()]
-        out += [box(-w - 0.1, 0.1, y - a / 2, y + a / 2, z - b / 2, z + b / 2) for y, z, a, b in self.ir_windows()]
-        out += [cyl(1.7, w + 0.2, (-w - 0.1, y, z), X) for y, z in self.screw_positions()]
+        out = [box(-w - 0.1, 0.1, y - a / 2, y + a / 2, z - b / 2, z + b / 2) for y, z, a, b in self.ir_windows()]
+        r, R = self.screw_hole_mm / 2, self.screw_countersink_mm / 2
+        for y, z in self.screw_positions():
+            out.append(cyl(r, w + 0.2, (-w - 0.1, y, z), X))
+            out.append(cone(R + 0.1, r, R - r + 0.1, (0.1, y, z), (-1.0, 0.0, 0.0)))  # countersunk head, flush
         return out
+
+    def pin_wall_cutters(self) -> list:
+        """Cutters for the wall in front of a pin block (set frame, outer face at x = 0): plain pin holes
+        (the pins come out here), IR windows, screw holes."""
+        from .shapes import X, cyl
+
+        w = self.wall_mm
+        return [cyl(self.pin_diameter_mm / 2 + self.clearance_mm, w + 0.2, (-w - 0.1, y, z), X)
+                for y, z in self.pin_positions()] + self._wall_common()
+
+    def latch_wall_cutters(self) -> list:
+        """Cutters for the wall in front of a latch block (set frame, outer face at x = 0): pin holes with a
+        45 deg countersink ``hole_chamfer_mm`` deep on the outer face (the lead-in a docking pin meets
+        first), IR windows, screw holes."""
+        from .shapes import X, cone, cyl
+
+        w, r, h = self.wall_mm, self.pin_diameter_mm / 2 + self.clearance_mm, self.hole_chamfer_mm
+        out = []
+        for y, z in self.pin_positions():
+            out.append(cyl(r, w + 0.2, (-w - 0.1, y, z), X))
+            if h > 0:  # from 0.1 mm outside the face (a clean cut) to h deep
+                out.append(cone(r + h + 0.1, r, h + 0.1, (0.1, y, z), (-1.0, 0.0, 0.0)))
+        return out + self._wall_common()
+
+    def wall_cutters(self, side: str) -> list:
+        """The wall cutters for a ``"pin"`` or a ``"latch"`` block (see the two methods)."""
+        if side == "pin":
+            return self.pin_wall_cutters()
+        if side == "latch":
+            return self.latch_wall_cutters()
+        raise ValueError(f"side {side!r} is not pin or latch")
 
 
 class _Plate(Part):
@@ -209,7 +335,7 @@ class _Plate(Part):
 
         h = spec.block_mm / 2
         base = box(x0, x1, -h, h, -h, h)
-        cut = [cyl(1.7, x1 - x0 + 0.2, (x0 - 0.1, y, z), X) for y, z in spec.screw_positions()]
+        cut = [cyl(spec.screw_hole_mm / 2, x1 - x0 + 0.2, (x0 - 0.1, y, z), X) for y, z in spec.screw_positions()]
         if pin_holes:
             r = spec.pin_diameter_mm / 2 + spec.clearance_mm
             cut += [cyl(r, x1 - x0 + 0.2, (x0 - 0.1, y, z), X) for y, z in spec.pin_positions()]
@@ -296,6 +422,7 @@ class GroovedPin(Part):
     name: ClassVar[str] = "pinset_e_grooved_pin"
     description: ClassVar[str] = "grooved-pin set (e): grooved pin, three per block, printed standing on its head"
     print_rotation: ClassVar = (((0.0, 1.0, 0.0), -90.0),)
+    infill_percent: ClassVar[int] = 100
 
     @property
     def groove_mm(self) -> tuple[float, float]:
@@ -305,17 +432,20 @@ class GroovedPin(Part):
         return (g0, g0 + s.separation_mm)
 
     def build(self):
-        from .shapes import X, cyl, fuse_all
+        from .shapes import X, cone, cyl, fuse_all
 
         s = self.spec
         x_head = s.head_x_mm
         r, rg = s.pin_diameter_mm / 2, s.groove_diameter_mm / 2
         g0, g1 = self.groove_mm
         tip = s.protrusion_mm
+        ch = s.pin_chamfer_mm
         parts = [cyl(s.head_diameter_mm / 2, s.head_mm, (x_head, 0, 0), X),
                  cyl(r, g0 - x_head - s.head_mm, (x_head + s.head_mm, 0, 0), X),
                  cyl(rg, g1 - g0, (g0, 0, 0), X),
-                 cyl(r, tip - g1, (g1, 0, 0), X)]
+                 cyl(r, tip - g1 - ch, (g1, 0, 0), X)]
+        if ch > 0:  # the lead-in: a 45 deg chamfer on the tip
+            parts.append(cone(r, r - ch, ch, (tip - ch, 0, 0), X))
         return fuse_all(parts)
 
     @property
@@ -382,7 +512,8 @@ class TriangularBlade(Part):
     spec: FrontRearSpec = FrontRearSpec()
     locked: bool = False
     name: ClassVar[str] = "latchset_d_triangular_blade"
-    description: ClassVar[str] = "latch set (d): triangular blade, turned by a micro servo to lock the pins"
+    description: ClassVar[str] = ("latch set (d): triangular blade on a 5 mm D-shaft, turned by a micro servo to "
+                                  "lock the pins")
     print_rotation: ClassVar = _FLAT_X
 
     def build(self):
@@ -409,7 +540,7 @@ class TriangularBlade(Part):
             cutters.append(cyl(w / 2, t, (x0 - 0.1, r * math.cos(a0), r * math.sin(a0)), X))
             cutters.append(cyl(s.pin_diameter_mm / 2 + c, t, (x0 - 0.1, r * math.cos(a1), r * math.sin(a1)), X))
         cutters.append(ring.intersect(fuse_all(wedges)))
-        cutters.append(cyl(2.5 + c, t, (x0 - 0.1, 0, 0), X))  # servo hub
+        cutters.append(s.d_profile(x0 - 0.1, t, c))  # the D bore the drive shaft turns the blade by
         shape = cut_all(blade, cutters)
         if self.locked:
             shape = rotated(shape, X, th)
@@ -433,7 +564,7 @@ class LatchRearPlate(_Plate):
         x0 = x1 - s.rear_plate_mm
         r = s.pin_diameter_mm / 2 + s.clearance_mm
         pockets = [cyl(r, s.pocket_depth_mm + 0.1, (x1 - s.pocket_depth_mm, y, z), X) for y, z in s.pin_positions()]
-        shaft = cyl(2.5 + s.clearance_mm, s.rear_plate_mm + 0.2, (x0 - 0.1, 0, 0), X)
+        shaft = cyl(s.drive_shaft_mm / 2 + s.clearance_mm, s.rear_plate_mm + 0.2, (x0 - 0.1, 0, 0), X)  # bearing
         return self._plate(s, x0, x1, pin_holes=False, extra=pockets + [shaft])
 
     @property
@@ -476,6 +607,18 @@ class RailSpec:
     tongue_tip_mm: float = 12.0
     ir_hole_mm: float = 3.0
     ir_inset_mm: float = 6.0
+    #: Lead-ins at both ends (45 deg), so that a robot sliding in alongside finds the dovetail: the
+    #: groove's outline grows by ``groove_flare_mm`` (normal to every face, floor included) toward each
+    #: end face; the tongue's outline shrinks by ``tongue_taper_mm`` toward its ends; the mating faces'
+    #: end edges (male plate face, female mouth face) are chamfered ``end_chamfer_mm``. 0 = sharp ends.
+    #: The flare and the taper run over ``flare_length_mm`` / ``taper_length_mm`` (2.5 x their size:
+    #: 22 deg to the rail axis), not 45 deg, because a dovetail flank (26.6 deg from the plate face)
+    #: turns only sin 26.6 = 0.45 of a sideways give into its normal; the end chamfers are 45 deg.
+    groove_flare_mm: float = 1.0
+    flare_length_mm: float = 2.5
+    tongue_taper_mm: float = 0.6
+    taper_length_mm: float = 1.5
+    end_chamfer_mm: float = 0.8
     clearance_mm: float = DEFAULT_CLEARANCE_MM
 
     def __post_init__(self) -> None:
@@ -483,6 +626,24 @@ class RailSpec:
         for n in ("length_mm", "height_mm", "plate_mm", "tongue_mm", "tongue_root_mm", "tongue_tip_mm",
                   "ir_hole_mm", "ir_inset_mm"):
             _pos_ok(n, getattr(self, n))
+        _pos_ok("flare_length_mm", self.flare_length_mm)
+        _pos_ok("taper_length_mm", self.taper_length_mm)
+        need(self.flare_length_mm <= self.ir_inset_mm - self.ir_hole_mm / 2 - MIN_WALL_MM
+             and self.taper_length_mm <= self.length_mm / 4,
+             f"flare_length_mm {self.flare_length_mm:g} / taper_length_mm {self.taper_length_mm:g} reach the IR holes")
+        for n in ("groove_flare_mm", "tongue_taper_mm", "end_chamfer_mm"):
+            v = getattr(self, n)
+            need(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v >= 0,
+                 f"{n} must be a length >= 0 mm (0 = no lead-in), got {v!r}")
+        need(at_least(self.plate_mm - self.clearance_mm - self.groove_flare_mm, MIN_WALL_MM),
+             f"groove_flare_mm {self.groove_flare_mm:g} leaves the groove floor at the rail's ends thinner than "
+             f"{MIN_WALL_MM:g} mm (plate_mm {self.plate_mm:g}, clearance_mm {self.clearance_mm:g})")
+        need(at_most(self.tongue_taper_mm, self.tongue_mm / 2),
+             f"tongue_taper_mm {self.tongue_taper_mm:g} is more than half the {self.tongue_mm:g} mm tongue")
+        need(at_most(self.end_chamfer_mm, self.plate_mm / 2),
+             f"end_chamfer_mm {self.end_chamfer_mm:g} is more than half the {self.plate_mm:g} mm plate")
+        need(at_least(self.ir_inset_mm - self.ir_hole_mm / 2, self.end_chamfer_mm + MIN_WALL_MM),
+             f"ir_inset_mm {self.ir_inset_mm:g} puts the IR holes into the rail's end lead-ins")
         need(at_least(self.plate_mm - self.clearance_mm, MIN_WALL_MM),
              f"plate_mm {self.plate_mm:g} leaves the groove floor thinner than {MIN_WALL_MM:g} mm "
              f"(clearance_mm {self.clearance_mm:g})")
@@ -515,10 +676,30 @@ class RailSpec:
         """Groove depth behind the female's mouth face: the tongue plus a clearance beyond its tip."""
         return self.tongue_mm + self.clearance_mm
 
-    def groove_half_width_mm(self, depth_mm: float) -> float:
+    def groove_half_width_mm(self, depth_mm: float, extra_mm: float = 0.0) -> float:
         """Half-width of the groove ``depth_mm`` behind its mouth: the tongue's half-width at that
-        depth plus the flank offset (the flank is parallel to the tongue's)."""
-        return self.tongue_root_mm / 2 + self.flank_offset_mm + depth_mm * self.flank_slope
+        depth plus the flank offset (the flank is parallel to the tongue's); ``extra_mm`` offsets the
+        flank further (the end flare)."""
+        return (self.tongue_root_mm / 2 + (self.clearance_mm + extra_mm) * math.sqrt(1 + self.flank_slope ** 2)
+                + depth_mm * self.flank_slope)
+
+    def groove_outline(self, female_mm: float, extra_mm: float = 0.0) -> list[tuple[float, float]]:
+        """(y, z) of the groove in the female's frame (mouth face at y = ``female_mm``), from 0.5 mm
+        outside the mouth to the floor, offset by ``extra_mm`` beyond the clearance on every face."""
+        out, deep = -0.5 - extra_mm, self.groove_depth_mm + extra_mm
+        wo, wd = self.groove_half_width_mm(out, extra_mm), self.groove_half_width_mm(deep, extra_mm)
+        t = female_mm
+        return [(t - out, -wo), (t - deep, -wd), (t - deep, wd), (t - out, wo)]
+
+    def tongue_outline(self, inset_mm: float = 0.0) -> list[tuple[float, float]]:
+        """(y, z) of the tongue in the male's frame (plate face at y = ``plate_mm``), starting 0.01 mm
+        inside the plate (a clean fuse), shrunk by ``inset_mm`` on the flanks and the tip (the end taper)."""
+        p, k = self.plate_mm, self.flank_slope
+        n = inset_mm * math.sqrt(1 + k ** 2)
+        a = self.tongue_root_mm / 2 - 0.01 * k - n
+        depth = self.tongue_mm - inset_mm
+        b = self.tongue_root_mm / 2 + depth * k - n
+        return [(p - 0.01, -a), (p + depth, -b), (p + depth, b), (p - 0.01, a)]
 
     def ir_points(self) -> list[tuple[float, float]]:
         """(x, z) of the two IR holes at both ends, in the bottom half: the thesis position (hole
@@ -541,16 +722,23 @@ class RailMale(Part):
     print_rotation: ClassVar = (((1.0, 0.0, 0.0), 90.0),)
 
     def build(self):
-        from .shapes import Y, box, cut_all, cyl, prism
+        from .shapes import Y, box, cut_all, cyl, fuse_all, loft_x, prism
 
         s = self.spec
         L, H, p = s.length_mm, s.height_mm, s.plate_mm
         plate = box(-L / 2, L / 2, 0, p, -H / 2, H / 2)
-        # the tongue starts 0.01 mm inside the plate (a clean fuse) on the extension of its flanks
-        a, b = s.tongue_root_mm / 2 - 0.01 * s.flank_slope, s.tongue_tip_mm / 2
-        tongue = prism([(p - 0.01, -a), (p + s.tongue_mm, -b), (p + s.tongue_mm, b), (p - 0.01, a)],
-                       "YZ", -L / 2, L)
-        body = plate.fuse(tongue).clean()
+        e = s.end_chamfer_mm
+        if e > 0:  # the plate face's end edges chamfered 45 deg (the lead-in for a robot coming in too close)
+            plate = cut_all(plate, [prism([(sx * (L / 2 + 0.01), p - e - 0.01), (sx * (L / 2 + 0.01), p + 0.01),
+                                           (sx * (L / 2 - e - 0.02), p + 0.01)], "XY", -H / 2 - 1, H + 2)
+                                    for sx in (-1, 1)])
+        g = s.tongue_taper_mm
+        lt = s.taper_length_mm if g > 0 else 0.0
+        tongue = [prism(s.tongue_outline(), "YZ", -L / 2 + lt, L - 2 * lt)]
+        if g > 0:  # the tongue's ends taper (g over taper_length_mm)
+            tongue += [loft_x(s.tongue_outline(g), -L / 2, s.tongue_outline(), -L / 2 + lt + 0.001),
+                       loft_x(s.tongue_outline(), L / 2 - lt - 0.001, s.tongue_outline(g), L / 2)]
+        body = fuse_all([plate] + tongue)
         holes = [cyl(s.ir_hole_mm / 2, p + 0.2, (x, -0.1, z), Y) for x, z in s.ir_points()]
         return cut_all(body, holes)
 
@@ -574,19 +762,26 @@ class RailFemale(Part):
     print_rotation: ClassVar = (((1.0, 0.0, 0.0), 90.0),)
 
     def build(self):
-        from .shapes import Y, box, cut_all, cyl, prism
+        from .shapes import Y, box, cut_all, cyl, loft_x, prism
 
         s = self.spec
         L, H, t = s.length_mm, s.height_mm, s.female_mm
         plate = box(-L / 2, L / 2, 0, t, -H / 2, H / 2)
         # the groove's outline: the tongue offset by the clearance, drawn from 0.5 mm outside the
         # mouth (a clean cut through the mouth face) to the floor; y = t - depth
-        out, deep = -0.5, s.groove_depth_mm
-        w_out, w_deep = s.groove_half_width_mm(out), s.groove_half_width_mm(deep)
-        groove = prism([(t - out, -w_out), (t - deep, -w_deep), (t - deep, w_deep), (t - out, w_out)],
-                       "YZ", -L / 2 - 1, L + 2)
+        groove = [prism(s.groove_outline(t), "YZ", -L / 2 - 1, L + 2)]
+        f = s.groove_flare_mm
+        if f > 0:  # the groove flares toward both end faces (f over flare_length_mm; 0.1 mm beyond them)
+            lf = s.flare_length_mm
+            big = s.groove_outline(t, f * (1 + 0.1 / lf))
+            groove += [loft_x(big, -L / 2 - 0.1, s.groove_outline(t), -L / 2 + lf),
+                       loft_x(s.groove_outline(t), L / 2 - lf, big, L / 2 + 0.1)]
+        e = s.end_chamfer_mm
+        if e > 0:  # the mouth face's end edges chamfered 45 deg
+            groove += [prism([(sx * (L / 2 + 0.01), t - e - 0.01), (sx * (L / 2 + 0.01), t + 0.01),
+                              (sx * (L / 2 - e - 0.02), t + 0.01)], "XY", -H / 2 - 1, H + 2) for sx in (-1, 1)]
         holes = [cyl(s.ir_hole_mm / 2, t + 0.2, (x, -0.1, z), Y) for x, z in s.ir_points()]
-        return cut_all(plate, [groove] + holes)
+        return cut_all(plate, groove + holes)
 
 
 # --- twist-and-lock top-down coupling (thesis Fig. 6.10) -----------------------
@@ -613,10 +808,25 @@ class TopTwistSpec:
     twist_deg: float = 45.0
     stand_mm: float = 15.0
     ground_clearance_mm: float = 2.0
+    #: Lead-ins (45 deg): a chamfer round the bottom edges of the key head and round the top edges of
+    #: the cross hole in the collar roof; 0 = sharp edges.
+    key_chamfer_mm: float = 0.8
+    hole_chamfer_mm: float = 0.8
+    #: Bore along the key for the IR transmitter that guides the upper robot (a 3 mm LED + 0.1 mm).
+    ir_bore_mm: float = 3.2
+    #: Screws of the key flange (into the floor) and of the cover (into the body's corner bosses).
+    screw_size: str = "M3"
     clearance_mm: float = DEFAULT_CLEARANCE_MM
 
     def __post_init__(self) -> None:
         check_clearance(self.clearance_mm, "clearance_mm")
+        for n in ("key_chamfer_mm", "hole_chamfer_mm"):
+            v = getattr(self, n)
+            need(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v >= 0,
+                 f"{n} must be a length >= 0 mm (0 = no lead-in), got {v!r}")
+        from .fasteners import thread
+
+        thread(self.screw_size)
         for n in ("arm_width_mm", "arm_length_mm", "head_mm", "roof_mm", "key_protrusion_mm", "flange_mm",
                   "flange_size_mm", "collar_wall_mm", "cover_mm", "lip_mm", "stand_mm", "ground_clearance_mm"):
             _pos_ok(n, getattr(self, n))
@@ -632,6 +842,27 @@ class TopTwistSpec:
         need(at_most(self.lock_x0_mm + 2.0, self.arm_length_mm / 2),
              f"arm_length_mm {self.arm_length_mm:g} leaves no room for the locking key")
         need(30.0 <= self.twist_deg <= 60.0, f"twist_deg {self.twist_deg:g} must be in 30..60")
+        need(at_most(self.key_chamfer_mm, min(self.head_mm / 2, self.arm_width_mm / 2 - 1.0)),
+             f"key_chamfer_mm {self.key_chamfer_mm:g} is more than half the {self.head_mm:g} mm key head")
+        need(at_most(self.hole_chamfer_mm, self.roof_mm / 2),
+             f"hole_chamfer_mm {self.hole_chamfer_mm:g} is more than half the {self.roof_mm:g} mm collar roof")
+
+    @property
+    def screw_hole_mm(self) -> float:
+        """ISO 273 medium clearance hole for ``screw_size`` (flange and cover screws)."""
+        from .fasteners import clearance_hole_mm
+
+        return clearance_hole_mm(self.screw_size)
+
+    @property
+    def capture_estimate_mm(self) -> float:
+        """Lateral offset the lead-ins are sized for: clearance + key chamfer + hole chamfer."""
+        return self.clearance_mm + self.key_chamfer_mm + self.hole_chamfer_mm
+
+    def flange_screw_points(self) -> list[tuple[float, float]]:
+        """(x, y) of the key flange's four screws (key frame, before any turn)."""
+        f = self.flange_size_mm / 2 - 4
+        return [(x, y) for x in (-f, f) for y in (-f, f)]
 
     @property
     def head_z0_mm(self) -> float:
@@ -669,6 +900,16 @@ def _cross(w: float, L: float, z0: float, h: float):
     return box(-L / 2, L / 2, -w / 2, w / 2, z0, z0 + h).fuse(box(-w / 2, w / 2, -L / 2, L / 2, z0, z0 + h))
 
 
+def _cross_taper(w0: float, L0: float, z0: float, w1: float, L1: float, z1: float):
+    """A cross whose arms taper from ``w0`` x ``L0`` at ``z0`` to ``w1`` x ``L1`` at ``z1`` (a chamfered
+    edge of a cross: two rectangular frusta)."""
+    from .shapes import frustum
+
+    a = frustum((L0 / 2, w0 / 2), (L1 / 2, w1 / 2), z0, z1)
+    b = frustum((w0 / 2, L0 / 2), (w1 / 2, L1 / 2), z0, z1)
+    return a.fuse(b).clean()
+
+
 @dataclass(frozen=True)
 class CrossKey(Part):
     """Cross key under a robot (frame: z = 0 at the robot's underside, key below)."""
@@ -678,6 +919,7 @@ class CrossKey(Part):
     name: ClassVar[str] = "cross_key"
     description: ClassVar[str] = "twist-and-lock: cross key under the robot, IR transmitter bore"
     print_rotation: ClassVar = (((1.0, 0.0, 0.0), 180.0),)
+    support: ClassVar[str] = "the cross head's arms overhang the stem by 10 mm (support under the arms)"
 
     def build(self):
         from .shapes import Z, box, cut_all, cyl, fuse_all, rotated
@@ -688,11 +930,14 @@ class CrossKey(Part):
         flange = box(-f, f, -f, f, -s.flange_mm, 0)
         stem = cyl(s.arm_width_mm / 2, s.key_protrusion_mm - s.flange_mm - s.head_mm + 0.01,
                    (0, 0, zt + s.head_mm - 0.005), Z)
-        head = _cross(s.arm_width_mm, s.arm_length_mm, zt, s.head_mm)
-        k = fuse_all([flange, stem, head])
-        holes = [cyl(1.7, s.flange_mm + 0.2, (x, y, -s.flange_mm - 0.1), Z)
-                 for x in (-f + 4, f - 4) for y in (-f + 4, f - 4)]
-        holes.append(cyl(1.6, s.key_protrusion_mm + 0.2, (0, 0, zt - 0.1), Z))
+        ch, w, L = s.key_chamfer_mm, s.arm_width_mm, s.arm_length_mm
+        head = [_cross(w, L, zt + ch, s.head_mm - ch)]
+        if ch > 0:  # the lead-in: the head's bottom edges chamfered 45 deg
+            head.append(_cross_taper(w - 2 * ch, L - 2 * ch, zt, w, L, zt + ch + 0.001))
+        k = fuse_all([flange, stem] + head)
+        holes = [cyl(s.screw_hole_mm / 2, s.flange_mm + 0.2, (x, y, -s.flange_mm - 0.1), Z)
+                 for x, y in s.flange_screw_points()]
+        holes.append(cyl(s.ir_bore_mm / 2, s.key_protrusion_mm + 0.2, (0, 0, zt - 0.1), Z))  # IR transmitter
         k = cut_all(k, holes)
         return rotated(k, Z, -s.twist_deg) if self.turned else k  # clockwise seen from above
 
@@ -704,8 +949,11 @@ class Cover(Part):
     spec: TopTwistSpec = TopTwistSpec()
     length_mm: float = 100.0
     width_mm: float = 90.0
+    #: Cover screws this far in from the cover's edges (over the body's corner bosses).
+    screw_inset_mm: float = 5.0
     name: ClassVar[str] = "cover_cross_hole"
     description: ClassVar[str] = "twist-and-lock: body cover with the cross-shaped hole in a collar"
+    support: ClassVar[str] = "the collar roof spans the 30 mm cavity round the cross hole (support inside the collar)"
 
     def validate(self) -> None:
         s = self.spec
@@ -723,9 +971,20 @@ class Cover(Part):
         collar = cyl(R + s.collar_wall_mm, s.collar_mm + 0.01, (0, 0, t - 0.005), Z)
         body = plate.fuse(collar).clean()
         cav = cyl(R, t + s.roof_under_mm + 0.1, (0, 0, -0.1), Z)
-        hole = _cross(s.arm_width_mm + 2 * c, s.arm_length_mm + 2 * c, t + s.roof_under_mm - 0.1, s.roof_mm + 0.2)
-        screws = [cyl(1.7, t + 0.2, (x, y, -0.1), Z) for x in (-L / 2 + 5, L / 2 - 5) for y in (-W / 2 + 5, W / 2 - 5)]
-        return cut_all(body, [cav, hole] + screws)
+        wh, Lh = s.arm_width_mm + 2 * c, s.arm_length_mm + 2 * c
+        hole = [_cross(wh, Lh, t + s.roof_under_mm - 0.1, s.roof_mm + 0.2)]
+        ch = s.hole_chamfer_mm
+        if ch > 0:  # the lead-in: the cross hole's top edges chamfered 45 deg
+            top = t + s.collar_mm
+            hole.append(_cross_taper(wh, Lh, top - ch, wh + 2 * ch + 0.2, Lh + 2 * ch + 0.2, top + 0.1))
+        screws = [cyl(s.screw_hole_mm / 2, t + 0.2, (x, y, -0.1), Z) for x, y in self.screw_points()]
+        return cut_all(body, [cav] + hole + screws)
+
+    def screw_points(self) -> list[tuple[float, float]]:
+        """(x, y) of the four cover screws (cover frame = body frame centred on the body): over the
+        body's corner bosses, ``screw_inset_mm`` in from the edges."""
+        a, b = self.length_mm / 2 - self.screw_inset_mm, self.width_mm / 2 - self.screw_inset_mm
+        return [(x, y) for x in (-a, a) for y in (-b, b)]
 
 
 @dataclass(frozen=True)
@@ -755,33 +1014,70 @@ class LockingKey(Part):
 class CasterSeat(Part):
     """Snap-in seat for a ball caster under the floor (frame: z = 0 at the underside).
 
-    The ball protrudes a third of its diameter below the seat (thesis: 10 mm
-    casters, a third exposed); the seat height follows from the wheels' exposed
-    height so that wheels and casters touch flat ground together.
+    The ball is held by an undercut: the mouth of the socket (a sphere of the ball's
+    radius plus the clearance) is ``undercut_mm`` per side narrower than the ball, so the
+    ball snaps in and cannot fall out. That fixes how far it can protrude: the mouth lies
+    sqrt((R + c)^2 - (R - u)^2) below the ball's centre, so a 10 mm ball shows 2.78 mm
+    (28 %, against the thesis's third, which would leave an undercut of 0.09 mm, below
+    what FDM holds). The seat height follows from the wheels' exposed height so that
+    wheels and casters touch flat ground together.
     """
 
     ball_diameter_mm: float = 10.0
     wheel_exposed_mm: float = 15.0
     outer_diameter_mm: float = 14.0
-    exposed_fraction: float = 1.0 / 3.0
+    #: Radial overlap of the mouth over the ball (per side): what retains the ball.
+    undercut_mm: float = 0.3
+    #: Fixed by one screw through the floor into an ISO 2306 tap hole this deep in the seat's top
+    #: (0: no hole, the seat is glued).
+    screw_size: str = "M3"
+    screw_depth_mm: float = 3.0
     clearance_mm: float = DEFAULT_CLEARANCE_MM
     name: ClassVar[str] = "caster_seat"
-    description: ClassVar[str] = "ball-caster seat (snap-in socket), screwed under the floor"
+    description: ClassVar[str] = "ball-caster seat (snap-in socket, 0.3 mm undercut), screwed under the floor"
     print_rotation: ClassVar = (((1.0, 0.0, 0.0), 180.0),)
 
+    #: Least undercut FDM can hold (per side): below it the mouth prints as wide as the ball.
+    MIN_UNDERCUT_MM: ClassVar[float] = 0.3
+    ZERO_OK: ClassVar[tuple[str, ...]] = ("screw_depth_mm",)
+
     def validate(self) -> None:
-        need(0.1 <= self.exposed_fraction <= 0.45, f"exposed_fraction {self.exposed_fraction:g} must be in 0.1..0.45")
+        need(at_least(self.undercut_mm, self.MIN_UNDERCUT_MM),
+             f"CasterSeat.undercut_mm {self.undercut_mm:g} is below {self.MIN_UNDERCUT_MM:g} mm: the ball would not be held")
+        need(at_least(self.exposed_mm, 0.1 * self.ball_diameter_mm),
+             f"CasterSeat.undercut_mm {self.undercut_mm:g} leaves the {self.ball_diameter_mm:g} mm ball only "
+             f"{self.exposed_mm:.2f} mm below the seat")
         need(at_least(self.outer_diameter_mm, self.ball_diameter_mm + 2 * self.clearance_mm + 2 * MIN_WALL_MM),
              f"outer_diameter_mm {self.outer_diameter_mm:g} leaves no wall around the "
              f"{self.ball_diameter_mm:g} mm ball")
+        from .fasteners import thread
+
+        thread(self.screw_size)
         top = self.ball_centre_z_mm + self.ball_diameter_mm / 2 + self.clearance_mm
         need(at_most(top, -MIN_WALL_MM),
              f"ball_diameter_mm {self.ball_diameter_mm:g} is too large for wheel_exposed_mm "
              f"{self.wheel_exposed_mm:g}: the socket would break through the floor")
+        need(self.screw_depth_mm <= 0 or at_most(top, -self.screw_depth_mm - MIN_WALL_MM),
+             f"CasterSeat.screw_depth_mm {self.screw_depth_mm:g}: the tap hole would come within {MIN_WALL_MM:g} mm "
+             f"of the ball socket")
+
+    @property
+    def mouth_below_centre_mm(self) -> float:
+        """Depth of the socket's mouth below the ball's centre (where the socket is R - u wide)."""
+        R, c, u = self.ball_diameter_mm / 2, self.clearance_mm, self.undercut_mm
+        return math.sqrt(max((R + c) ** 2 - (R - u) ** 2, 0.0))
+
+    @property
+    def mouth_radius_mm(self) -> float:
+        return self.ball_diameter_mm / 2 - self.undercut_mm
 
     @property
     def exposed_mm(self) -> float:
-        return self.exposed_fraction * self.ball_diameter_mm
+        return self.ball_diameter_mm / 2 - self.mouth_below_centre_mm
+
+    @property
+    def exposed_fraction(self) -> float:
+        return self.exposed_mm / self.ball_diameter_mm
 
     @property
     def seat_height_mm(self) -> float:
@@ -796,4 +1092,10 @@ class CasterSeat(Part):
 
         boss = cyl(self.outer_diameter_mm / 2, self.seat_height_mm, (0, 0, -self.seat_height_mm), Z)
         sock = sphere(self.ball_diameter_mm / 2 + self.clearance_mm, (0, 0, self.ball_centre_z_mm))
-        return boss.cut(sock).cut(cyl(1.5, 3.0, (0, 0, -3.0), Z))
+        from .fasteners import tap_hole_mm
+
+        seat = boss.cut(sock)
+        if self.screw_depth_mm <= 0:
+            return seat
+        # the M3 screw from inside the robot, through the floor, cuts its own thread in this tap hole
+        return seat.cut(cyl(tap_hole_mm(self.screw_size) / 2, self.screw_depth_mm, (0, 0, -self.screw_depth_mm), Z))

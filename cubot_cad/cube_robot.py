@@ -42,6 +42,7 @@ class WheelBlock(Part):
     steer_deg: float = 30.0
     name: ClassVar[str] = "cube_wheel_block"
     description: ClassVar[str] = "Cube Robot tier 1: wheel block, four wheel wells (Ackermann, front steered)"
+    support: ClassVar[str] = "overhangs at the wheel wells (the slicer places supports there, issue 15)"
 
     def build(self):
         import math
@@ -84,10 +85,11 @@ class ConnectorCuboid(Part):
         shell = box(-S, S, -S, S, z0, z1).cut(box(-S + w, S - w, -S + w, S - w, z0 + f, z1 + 1))
         zb = (z0 + z1) / 2
         cut = []
-        for rot in (0, 90, 180, 270):
+        # pins front (0 deg) and right (-90 = 270 deg), latches rear (180 deg) and left (90 deg)
+        for rot, side in ((0, "pin"), (90, "latch"), (180, "latch"), (270, "pin")):
             for o in (-self.block_offset_mm, self.block_offset_mm):
                 loc = location((0, 0, zb), rot) * location((S, o, 0))
-                cut += [t.moved(loc) for t in self.fr.wall_cutters()]
+                cut += [t.moved(loc) for t in self.fr.wall_cutters(side)]
         cut.append(box(-10, 10, -10, 10, z0 - 1, z0 + f + 1))  # wiring to the wheel block
         return cut_all(shell, cut)
 
@@ -197,6 +199,22 @@ class CubeRobot(Robot):
                             ("blade" if "blade" in part.name else "latchset")
                         out.append(Placed(part, face * location(off), role + ("_side" if rot in (-90, 90) else "")))
         return out
+
+    def drive_parts(self) -> list[tuple[str, str, str, int]]:
+        fr = self.fr_spec
+        length = fr.rear_plate_mm + fr.separation_mm + 6.0  # through the bearing and the blade, into the coupler
+        return [("latch_shaft", "steel D-shaft (0.5 mm flat) with a coupler onto the latch servo's output",
+                 f"diameter {fr.drive_shaft_mm:g} x {length:.0f} mm, {fr.drive_flat_mm:g} mm across the flat",
+                 4)]
+
+    def fasteners(self) -> list:
+        from .fasteners import bolted
+
+        fr, n = self.fr_spec, self.name
+        return (bolted(n, fr.screw_size, fr.pin_stack_mm, 4 * 4, "grooved-pin blocks (front, right)", nut=True,
+                       kind="ISO 10642")
+                + bolted(n, fr.screw_size, fr.latch_stack_mm, 4 * 4, "latch blocks (rear, left)", nut=True,
+                         kind="ISO 10642"))
 
     def pin_heights_mm(self) -> list[float]:
         return [self.block_z_mm + z for _ in (0, 1) for _y, z in self.fr_spec.pin_positions()]

@@ -5,8 +5,8 @@
 * left: male dovetail rail, right: female rail (two CuBots slide side by side);
 * top: cover with the cross-hole collar and the locking key; underneath: the
   cross key (twist and lock, clockwise);
-* two drive wheels (radius 21 mm, 70 mm apart), two 10 mm ball casters (a third
-  exposed), windows for 8 IR pairs and the two bottom-front edge detectors.
+* two drive wheels (radius 21 mm, 70 mm apart), two 10 mm ball casters (held by a
+  0.3 mm undercut, 2.8 mm exposed), windows for 8 IR pairs and the two bottom-front edge detectors.
 
 Envelope: length x width x height excludes only what enters a docked
 neighbour (pins, dovetail tongue); the body, rails, cover, collar and locking
@@ -65,6 +65,14 @@ class CuBotBody(Part):
     block_y_mm: float = 22.0
     block_z_mm: float = 30.0
     rail_z_mm: float = 26.0
+    #: The cover's four screws sit this far in from its edges, each over a corner boss of the body that
+    #: holds an M3 heat-set insert (boss ``boss_mm`` square in the inner corner, ``boss_depth_mm`` of
+    #: full section under the wall top, then a 45 deg underside so it prints without support).
+    cover_screw_inset_mm: float = 5.0
+    #: Floor hole above the cross key's IR bore (wires of the IR transmitter).
+    key_ir_hole_mm: float = 4.0
+    boss_mm: float = 9.0
+    boss_depth_mm: float = 8.0
     fr: FrontRearSpec = FrontRearSpec()
     rail: RailSpec = RailSpec()
     top: TopTwistSpec = TopTwistSpec()
@@ -74,21 +82,59 @@ class CuBotBody(Part):
                                   "edge-detector windows, wheel slots, caster and key screw holes")
 
     def validate(self) -> None:
+        from .fasteners import thread
+
         self.wall_check("wall_mm", self.wall_mm)
         self.wall_check("floor_mm", self.floor_mm)
+        ins = thread(self.top.screw_size)
+        inset = self.cover_screw_inset_mm
+        need(at_least(inset - ins.insert_hole_mm / 2, MIN_WALL_MM),
+             f"CuBotBody.cover_screw_inset_mm {inset:g} puts the {ins.insert_hole_mm:g} mm insert holes closer "
+             f"than {MIN_WALL_MM:g} mm to the outer wall")
+        need(at_least(self.boss_mm + self.wall_mm - inset - ins.insert_hole_mm / 2, MIN_WALL_MM),
+             f"CuBotBody.boss_mm {self.boss_mm:g} leaves under {MIN_WALL_MM:g} mm of boss round the insert holes")
+        need(at_least(self.boss_depth_mm, ins.insert_hole_depth_mm + MIN_WALL_MM),
+             f"CuBotBody.boss_depth_mm {self.boss_depth_mm:g} is shallower than the {ins.insert_hole_depth_mm:g} mm "
+             f"insert hole plus a {MIN_WALL_MM:g} mm floor")
+
+    def cover_screw_points(self) -> list[tuple[float, float]]:
+        """(x, y) of the cover screws (robot frame): over the corner bosses."""
+        a, b = self.length_mm / 2 - self.cover_screw_inset_mm, self.width_mm / 2 - self.cover_screw_inset_mm
+        return [(x, self.y_centre_mm + y) for x in (-a, a) for y in (-b, b)]
+
+    def _bosses(self):
+        """The four corner bosses (clipped to the hollow, fused to the walls)."""
+        from .shapes import box, frustum
+
+        L, W, H, w = self.length_mm, self.width_mm, self.height_mm, self.wall_mm
+        yc, B = self.y_centre_mm, self.boss_mm
+        zb = H - self.boss_depth_mm
+        inner = box(-L / 2 + w, L / 2 - w, yc - W / 2 + w, yc + W / 2 - w, zb - B - 1, H)
+        out = []
+        for sx in (-1, 1):
+            for sy in (-1, 1):
+                cx, cy = sx * (L / 2 - w), yc + sy * (W / 2 - w)
+                solid = box(cx - B, cx + B, cy - B, cy + B, zb, H).fuse(
+                    frustum((0.05, 0.05), (B + 0.01, B + 0.01), zb - B + 0.04, zb + 0.01, (cx, cy)))
+                out.append(solid.intersect(inner))
+        return out
 
     def build(self):
-        from .shapes import Y, Z, box, cut_all, cyl
+        from .fasteners import thread
+        from .shapes import Y, Z, box, cut_all, cyl, fuse_all
 
         L, W, H, w, f = self.length_mm, self.width_mm, self.height_mm, self.wall_mm, self.floor_mm
         yc = self.y_centre_mm
         y0, y1 = yc - W / 2, yc + W / 2
         shell = box(-L / 2, L / 2, y0, y1, 0, H).cut(box(-L / 2 + w, L / 2 - w, y0 + w, y1 - w, f, H + 1))
-        cut = []
+        shell = fuse_all([shell] + self._bosses())
+        ins = thread(self.top.screw_size)
+        cut = [cyl(ins.insert_hole_mm / 2, ins.insert_hole_depth_mm + 0.1, (x, y, H - ins.insert_hole_depth_mm), Z)
+               for x, y in self.cover_screw_points()]
         fr = self.fr
         for yb in (yc - self.block_y_mm, yc + self.block_y_mm):
             for sgn in (1, -1):  # front pin blocks, rear latch blocks (patterns are symmetric in y)
-                for t in fr.wall_cutters():
+                for t in fr.wall_cutters("pin" if sgn > 0 else "latch"):
                     t = t.moved(_loc((sgn * L / 2, yb, self.block_z_mm), 0 if sgn > 0 else 180))
                     cut.append(t)
         # rail IR holes through the side walls
@@ -109,10 +155,10 @@ class CuBotBody(Part):
         xe = L / 2 - w - 6
         for ye in (yc - 30, yc + 30):
             cut.append(box(xe - 3, xe + 3, ye - 2, ye + 2, -1, f + 1))
-        cut.append(cyl(2.0, f + 2, (0, yc, -1), Z))
-        s = self.top.flange_size_mm / 2 - 4
-        cut += [cyl(1.7, f + 2, (x, yc + y, -1), Z) for x in (-s, s) for y in (-s, s)]
-        cut += [cyl(1.7, f + 2, (x, 0, -1), Z) for x in (-self.caster_x_mm, self.caster_x_mm)]
+        cut.append(cyl(self.key_ir_hole_mm / 2, f + 2, (0, yc, -1), Z))  # the key's IR transmitter wires
+        hole_r = self.top.screw_hole_mm / 2
+        cut += [cyl(hole_r, f + 2, (x, yc + y, -1), Z) for x, y in self.top.flange_screw_points()]
+        cut += [cyl(hole_r, f + 2, (x, 0, -1), Z) for x in (-self.caster_x_mm, self.caster_x_mm)]
         return cut_all(shell, cut)
 
 
@@ -249,7 +295,8 @@ class CuBot(Robot):
         out.append(Placed(RailMale(spec=self.rail_spec), location((0, yc + W_b / 2, self.rail_z_mm)), "rail"))
         out.append(Placed(RailFemale(spec=self.rail_spec), location((0, yc - W_b / 2, self.rail_z_mm), 180), "rail"))
         H_b = self.body_height_mm
-        out.append(Placed(Cover(spec=self.top_spec, length_mm=L, width_mm=W_b), location((0, yc, H_b)), "cover"))
+        out.append(Placed(Cover(spec=self.top_spec, length_mm=L, width_mm=W_b,
+                                screw_inset_mm=self.body.cover_screw_inset_mm), location((0, yc, H_b)), "cover"))
         if with_locking_key:
             out.append(Placed(LockingKey(spec=self.top_spec), location((0, yc, H_b)), "locking_key"))
         out.append(Placed(CrossKey(spec=self.top_spec, turned=key_turned), location((0, yc, 0)), "cross_key"))
@@ -258,6 +305,28 @@ class CuBot(Robot):
         for x in (-self.caster_x_mm, self.caster_x_mm):
             out.append(Placed(seat, location((x, 0, 0)), "caster_seat"))
         return out
+
+    def drive_parts(self) -> list[tuple[str, str, str, int]]:
+        fr = self.fr_spec
+        length = fr.rear_plate_mm + fr.separation_mm + 6.0  # through the bearing and the blade, into the coupler
+        return [("latch_shaft", "steel D-shaft (0.5 mm flat) with a coupler onto the latch servo's output",
+                 f"diameter {fr.drive_shaft_mm:g} x {length:.0f} mm, {fr.drive_flat_mm:g} mm across the flat",
+                 len(self.block_ys_mm))]
+
+    def fasteners(self) -> list:
+        from .fasteners import bolted
+
+        fr, top, n = self.fr_spec, self.top_spec, self.name
+        blocks = len(self.block_ys_mm)
+        return (bolted(n, fr.screw_size, fr.pin_stack_mm, 4 * blocks, "grooved-pin blocks: wall + plates d, c, b, a",
+                       nut=True, kind="ISO 10642")
+                + bolted(n, fr.screw_size, fr.latch_stack_mm, 4 * blocks, "latch blocks: wall + plates a, b, c, e",
+                         nut=True, kind="ISO 10642")
+                + bolted(n, top.screw_size, top.cover_mm, 4, "cover into the body's corner bosses", insert=True)
+                + bolted(n, top.screw_size, self.floor_mm + top.flange_mm, 4, "cross-key flange under the floor",
+                         nut=True)
+                + bolted(n, "M3", self.floor_mm, 2, "caster seats (screw from inside into the seat's tap hole)",
+                         thread_mm=3.0))
 
     def pin_heights_mm(self) -> list[float]:
         return [self.block_z_mm + z for _ in self.block_ys_mm for _y, z in self.fr_spec.pin_positions()]

@@ -15,6 +15,9 @@ gap is the pair's designed gap (:func:`design_gap_mm`) within
 :data:`GAP_TOLERANCE_MM`; :func:`require_docked` turns a failing pair into an
 :class:`~cubot_cad.errors.InputError`, which stops an export before it writes.
 
+How far off a robot may arrive and still be guided in by the lead-ins (the capture range) is
+measured by :mod:`cubot_cad.capture` on these docked pairs.
+
 Couplings: ``cubot-front-rear``, ``cubot-side-rail`` (B slides in on A's left;
 its lateral play is reported too), ``cubot-top-down`` (B stands on A's cover
 on its wheels and casters, key through the collar), ``octbot-ring``,

@@ -8,6 +8,7 @@ Layout under the output directory::
     robot_properties.json         RobotPropertiesFile of the exported robots
     <robot>/<part>.stl            binary STL, mm, oriented flat (z >= 0)
     <robot>/<part>.3mf            with --format 3mf
+    <robot>/bom.csv               bill of materials: printed parts, bought parts, ISO fasteners
     <robot>.step                  STEP assembly (printed parts + stand-ins for bought parts)
     <robot>.glb                   GLB (binary glTF 2.0, metres, +Y up) of the assembled robot
     bridge-cubot-line.glb         GLB of five docked CuBots spanning a void (with cubot and glb)
@@ -220,6 +221,7 @@ class PartRecord:
     watertight: bool
     fits_bed: bool
     extra_files: list[str] = field(default_factory=list)
+    print_settings: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -302,7 +304,8 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
             size_mm=[round(v, 4) for v in dims],
             mass_g=round(part.volume_mm3 * 1e-9 * rho * 1e3, 4),
             watertight=bool(mesh.is_watertight and mesh.is_volume),
-            fits_bed=all(s <= b for s, b in zip(size, bed, strict=True)), extra_files=extra))
+            fits_bed=all(s <= b for s, b in zip(size, bed, strict=True)), extra_files=extra,
+            print_settings=part.print_settings()))
     step_files = []
     if "step" in formats:
         for name, r in models.items():
@@ -313,6 +316,8 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
     glb_files, models_summary = [], []
     if "glb" in formats:  # after the STLs: the GLB meshes are made on copies, at their own tolerance
         glb_files, models_summary = _write_glbs(out, models, clearance_mm, pairs)
+    from .bom import bom_csv, bom_rows
+    from .components import component_table
     from .properties import RobotPropertiesFile
 
     source = (f"cubot_cad CAD export (material {material_name.upper()}, clearance {clearance_mm:g} mm): "
@@ -333,9 +338,11 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
             "step": f"{name}.step" if "step" in formats else None,
             "glb": f"{name}.glb" if "glb" in formats else None,
             "printable_parts": sum(q for _, q in r.printable_parts()),
-            "components": __import__("cubot_cad.components", fromlist=["component_table"]).component_table(
-                r.components()),
+            "components": component_table(r.components()),
+            "bom": f"{name}/bom.csv",
         }
+        sizes = {rec.part: rec.size_mm for rec in records if rec.robot == name}
+        _atomic_bytes(out / name / "bom.csv", bom_csv(bom_rows(r, rho, sizes)).encode())
     manifest = {
         "schema_version": MANIFEST_SCHEMA, "units": "mm, g", "material": material_name.upper(),
         "density_kg_m3": rho, "clearance_mm": clearance_mm, "bed_mm": list(BED_MM),

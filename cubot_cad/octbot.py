@@ -11,6 +11,7 @@ housing length follows from it and the ring's geometry.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import cached_property
 from typing import ClassVar
@@ -19,7 +20,7 @@ from . import couplings
 from .components import Component
 from .connectors import CasterSeat
 from .cubot import check_dims
-from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, at_least, check_clearance, need
+from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, at_least, at_most, check_clearance, need
 from .robot import Placed, Robot
 
 MIN_SENSOR_GAP_MM = 40.0
@@ -38,10 +39,26 @@ class RingSpec:
     hook_overlap_mm: float = 2.0
     finger_travel_mm: float = 2.5
     centre_z_mm: float = 16.0
+    #: Lead-ins (45 deg): a cone on the mouth of the ring's lip and a chamfer on the hooks' leading
+    #: outer edges, so that closed fingers arriving off-centre are steered through the lip. 0 = none.
+    lip_chamfer_mm: float = 1.0
+    hook_chamfer_mm: float = 0.8
+    screw_size: str = "M3"
     clearance_mm: float = DEFAULT_CLEARANCE_MM
 
     def __post_init__(self) -> None:
         check_clearance(self.clearance_mm)
+        for n in ("lip_chamfer_mm", "hook_chamfer_mm"):
+            v = getattr(self, n)
+            need(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v >= 0,
+                 f"{n} must be a length >= 0 mm (0 = no lead-in), got {v!r}")
+        need(at_most(self.lip_chamfer_mm, self.lip_mm / 2),
+             f"lip_chamfer_mm {self.lip_chamfer_mm:g} is more than half the {self.lip_mm:g} mm lip")
+        need(at_most(self.hook_chamfer_mm, self.hook_mm - MIN_WALL_MM),
+             f"hook_chamfer_mm {self.hook_chamfer_mm:g} leaves the {self.hook_mm:g} mm hook under {MIN_WALL_MM:g} mm")
+        from .fasteners import thread
+
+        thread(self.screw_size)
         check_dims(self, ("plate_mm", "lip_mm", "lip_radius_mm", "tube_wall_mm", "finger_mm", "hook_mm",
                           "hook_overlap_mm", "finger_travel_mm", "centre_z_mm"))
         for n in ("plate_mm", "lip_mm", "tube_wall_mm", "finger_mm", "hook_mm"):
@@ -81,10 +98,11 @@ class OctRing(Part):
     spec: RingSpec = RingSpec()
     name: ClassVar[str] = "octbot_ring"
     description: ClassVar[str] = "OctBot rear ring: mounting plate, tube with undercut and lip"
+    support: ClassVar[str] = "the lip overhangs the undercut inside the tube (support in the bore)"
     print_rotation: ClassVar = (((0.0, 1.0, 0.0), -90.0),)
 
     def build(self):
-        from .shapes import X, box, cut_all, cyl
+        from .shapes import X, box, cone, cut_all, cyl
 
         s = self.spec
         zc = s.centre_z_mm
@@ -94,8 +112,16 @@ class OctRing(Part):
         body = plate.fuse(tube).clean()
         bore = cyl(s.undercut_radius_mm, s.undercut_mm + 0.01, (s.plate_mm, 0, zc), X)
         lip = cyl(s.lip_radius_mm, s.lip_mm + 0.2, (s.plate_mm + s.undercut_mm - 0.1, 0, zc), X)
-        screws = [cyl(1.7, s.plate_mm + 0.2, (-0.1, y, zc), X) for y in (-h + 3.5, h - 3.5)]
-        return cut_all(body, [bore, lip] + screws)
+        cut = [bore, lip]
+        ch = s.lip_chamfer_mm
+        if ch > 0:  # the lead-in: a 45 deg cone on the lip's mouth
+            cut.append(cone(s.lip_radius_mm + ch + 0.1, s.lip_radius_mm, ch + 0.1, (s.ring_length_mm + 0.1, 0, zc),
+                            (-1.0, 0.0, 0.0)))
+        from .fasteners import clearance_hole_mm
+
+        r_screw = clearance_hole_mm(s.screw_size) / 2
+        screws = [cyl(r_screw, s.plate_mm + 0.2, (-0.1, y, zc), X) for y in (-h + 3.5, h - 3.5)]
+        return cut_all(body, cut + screws)
 
 
 @dataclass(frozen=True)
@@ -146,15 +172,21 @@ class Finger(Part):
         return self.housing_mm + s.lip_mm + s.clearance_mm + s.hook_mm
 
     def build(self):
-        from .shapes import box
+        from .shapes import box, prism
 
         s = self.spec
         r, a = s.finger_radius_mm, s.finger_mm / 2
         x0 = self.housing_mm - 8 + s.clearance_mm
         xt = self.tip_x_mm
         bar = box(x0, xt, -a, a, r - a, r + a)
-        hook = box(xt - s.hook_mm, xt, -a, a, r - a, s.lip_radius_mm + s.hook_overlap_mm)
-        return bar.fuse(hook).clean()
+        zt = s.lip_radius_mm + s.hook_overlap_mm
+        hook = box(xt - s.hook_mm, xt, -a, a, r - a, zt)
+        body = bar.fuse(hook).clean()
+        ch = s.hook_chamfer_mm
+        if ch > 0:  # the lead-in: the hook's leading outer edge chamfered 45 deg
+            body = body.cut(prism([(xt + 0.01, zt - ch - 0.01), (xt + 0.01, zt + 0.01), (xt - ch - 0.01, zt + 0.01)],
+                                  "XZ", -a - 0.1, 2 * a + 0.2))
+        return body
 
 
 @dataclass(frozen=True)
@@ -168,6 +200,7 @@ class OctBotBody(Part):
     wheel_base_mm: float = 70.0
     caster_x_mm: float = 36.0
     ring_centre_z_mm: float = 16.0
+    screw_size: str = "M3"
     name: ClassVar[str] = "octbot_body"
     description: ClassVar[str] = "OctBot body: octagonal tray, wheel slots, IR windows, mounting holes"
 
@@ -176,6 +209,7 @@ class OctBotBody(Part):
         self.wall_check("floor_mm", self.floor_mm)
 
     def build(self):
+        from .fasteners import clearance_hole_mm
         from .shapes import X, Z, box, cut_all, cyl, prism, regular_polygon, rotated
 
         af, H, w = self.across_flats_mm, self.height_mm, self.wall_mm
@@ -187,7 +221,8 @@ class OctBotBody(Part):
         for yw in (-self.wheel_base_mm / 2, self.wheel_base_mm / 2):
             a = self.wheel_width_mm / 2 + 1.5
             cut.append(box(-r, r, yw - a, yw + a, -1, self.floor_mm + 1))
-        cut += [cyl(1.7, self.floor_mm + 2, (x, 0, -1), Z) for x in (-self.caster_x_mm, self.caster_x_mm)]
+        r_screw = clearance_hole_mm(self.screw_size) / 2
+        cut += [cyl(r_screw, self.floor_mm + 2, (x, 0, -1), Z) for x in (-self.caster_x_mm, self.caster_x_mm)]
         # 8 IR LED windows (one per face) and 4 photodiode windows (front, rear, sides)
         for k in range(8):
             win = box(af / 2 - w - 1, af / 2 + 1, -3, 3, 17, 21)
@@ -197,7 +232,7 @@ class OctBotBody(Part):
         # ring/housing screw holes, colour sensor and edge detector windows in the floor
         zc = self.ring_centre_z_mm
         for x0 in (af / 2 - w - 1, -af / 2 - 1):
-            cut += [cyl(1.7, w + 2, (x0, y, zc), X) for y in (-12.0, 12.0)]
+            cut += [cyl(r_screw, w + 2, (x0, y, zc), X) for y in (-12.0, 12.0)]
         cut.append(box(20, 26, -4, 4, -1, self.floor_mm + 1))
         cut.append(box(af / 2 - w - 8, af / 2 - w - 3, -3, 3, -1, self.floor_mm + 1))
         return cut_all(body, cut)
@@ -216,6 +251,9 @@ class OctBot(Robot):
     caster_ball_mm: float = 6.0
     caster_x_mm: float = 36.0
     docked_gap_mm: float = 40.0
+    #: The 6 mm caster's seat leaves only 1.3-1.7 mm above its socket (by the clearance): no room for
+    #: a screw, the seats are glued under the floor (0 = no tap hole).
+    caster_screw_depth_mm: float = 0.0
     clearance_mm: float = DEFAULT_CLEARANCE_MM
     ring: RingSpec | None = None
 
@@ -244,7 +282,8 @@ class OctBot(Robot):
              f"wheel_base_mm {self.wheel_base_mm:g} puts the wheels into the walls")
         CapturerHousing(spec=rs, length_mm=self.housing_mm)
         CasterSeat(ball_diameter_mm=self.caster_ball_mm, wheel_exposed_mm=self.wheel_exposed_mm,
-                   outer_diameter_mm=self.caster_ball_mm + 4, clearance_mm=self.clearance_mm)
+                   outer_diameter_mm=self.caster_ball_mm + 4, screw_depth_mm=self.caster_screw_depth_mm,
+                   clearance_mm=self.clearance_mm)
 
     @cached_property
     def ring_spec(self) -> RingSpec:
@@ -280,7 +319,8 @@ class OctBot(Robot):
             loc = location((h, 0, rs.centre_z_mm)) * location((0, 0, 0), 0, ang) * location((0, 0, shift))
             out.append(Placed(finger, loc, "finger"))
         seat = CasterSeat(ball_diameter_mm=self.caster_ball_mm, wheel_exposed_mm=self.wheel_exposed_mm,
-                          outer_diameter_mm=self.caster_ball_mm + 4, clearance_mm=self.clearance_mm)
+                          outer_diameter_mm=self.caster_ball_mm + 4, screw_depth_mm=self.caster_screw_depth_mm,
+                   clearance_mm=self.clearance_mm)
         for x in (-self.caster_x_mm, self.caster_x_mm):
             out.append(Placed(seat, location((x, 0, 0)), "caster_seat"))
         return out
@@ -310,6 +350,16 @@ class OctBot(Robot):
             Component("fasteners", "M2/M3 screws", 5.0, ((0.0, 0.0, self.height_mm / 2),), (60.0, 60.0, 20.0),
                       "box", "hardware", (0.6, 0.6, 0.6)),
         ]
+
+    def fasteners(self) -> list:
+        from .fasteners import bolted
+
+        rs, n = self.ring_spec, self.name
+        out = bolted(n, rs.screw_size, rs.plate_mm + self.wall_mm, 2, "ring plate to the rear wall", nut=True)
+        if self.caster_screw_depth_mm > 0:
+            out += bolted(n, rs.screw_size, self.floor_mm, 2, "caster seats (into the seat's tap hole)",
+                          thread_mm=self.caster_screw_depth_mm)
+        return out
 
     def connector_properties(self, youngs_modulus_pa: float, gaps_mm: dict | None = None) -> tuple:
         rs = self.ring_spec

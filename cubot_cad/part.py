@@ -55,6 +55,9 @@ MAX_CLEARANCE_MM = 0.5
 #: 1e-6 mm is far below any printable feature and far above float rounding.
 LENGTH_TOL_MM = 1e-6
 
+#: Print settings every part shares (0.4 mm nozzle): layer height, perimeters, top/bottom layers.
+PRINT_DEFAULTS = {"nozzle_mm": NOZZLE_MM, "layer_mm": 0.2, "perimeters": 3, "top_bottom_layers": 5}
+
 #: Printing materials: density in kg/m^3 and Young's modulus in Pa (typical FDM values).
 MATERIALS: dict[str, dict[str, float]] = {
     "abs": {"density_kg_m3": 1040.0, "youngs_modulus_pa": 2.2e9},
@@ -127,14 +130,23 @@ class Part:
     description: ClassVar[str] = ""
     #: Rotations (axis, degrees) applied in order to lay the part flat for printing.
     print_rotation: ClassVar[tuple[tuple[tuple[float, float, float], float], ...]] = ()
+    #: Print settings recorded per part in the manifest (:meth:`print_settings`): infill, and why the
+    #: part needs supports as oriented ("" = it prints without).
+    infill_percent: ClassVar[int] = 25
+    support: ClassVar[str] = ""
+    #: ``*_mm`` fields that may be 0 (a feature left out), not only positive.
+    ZERO_OK: ClassVar[tuple[str, ...]] = ()
 
     def __post_init__(self) -> None:
         check_clearance(self.clearance_mm, f"{type(self).__name__}.clearance_mm")
         for f in fields(self):
             v = getattr(self, f.name)
             if f.name.endswith("_mm") and f.name != "clearance_mm":
-                if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v) or v <= 0:
-                    raise InputError(f"{type(self).__name__}.{f.name} must be a positive length in mm, got {v!r}")
+                zero_ok = f.name in self.ZERO_OK
+                if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v) or v < 0 \
+                        or (v == 0 and not zero_ok):
+                    what = "a length >= 0" if zero_ok else "a positive length"
+                    raise InputError(f"{type(self).__name__}.{f.name} must be {what} in mm, got {v!r}")
         self.validate()
 
     # -- subclass API -----------------------------------------------------
@@ -209,6 +221,11 @@ class Part:
 
         x0, y0, z0, x1, y1, _ = tight_bbox(s)
         return s.translate(cq.Vector(-(x0 + x1) / 2, -(y0 + y1) / 2, -z0))
+
+    def print_settings(self) -> dict:
+        """Per-part print settings for the manifest (the shared ones: :data:`PRINT_DEFAULTS`)."""
+        return {**PRINT_DEFAULTS, "infill_percent": self.infill_percent, "supports": bool(self.support),
+                "support_reason": self.support or None}
 
     def params(self) -> dict[str, float]:
         """The part's named dimensions."""

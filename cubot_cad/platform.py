@@ -29,11 +29,27 @@ class PlatformPlate(Part):
     name: ClassVar[str] = "test_platform"
     description: ClassVar[str] = "test platform: plate with front tab, rear recess and the M3 coupling holes"
 
+    @property
+    def bolt_size(self) -> str:
+        """The ISO metric size of the bolt (``bolt_mm`` must be one of the fastener table's)."""
+        return f"M{self.bolt_mm:g}"
+
+    @property
+    def bolt_hole_mm(self) -> float:
+        """ISO 273 medium clearance hole for the bolt (from the fastener table)."""
+        from .fasteners import clearance_hole_mm
+
+        return clearance_hole_mm(self.bolt_size)
+
     def validate(self) -> None:
+        from .fasteners import THREADS
+
+        need(self.bolt_size in THREADS,
+             f"PlatformPlate.bolt_mm {self.bolt_mm:g} is not a bolt of the fastener table ({', '.join(THREADS)})")
         c = self.clearance_mm
         need(at_least(self.thickness_mm / 2 - c, MIN_WALL_MM),
              f"thickness_mm {self.thickness_mm:g} leaves a lap joint half thinner than {MIN_WALL_MM:g} mm")
-        need(at_least(self.tab_length_mm, self.bolt_mm + 2 * c + 2 * MIN_WALL_MM + 2),
+        need(at_least(self.tab_length_mm, self.bolt_hole_mm + 2 * MIN_WALL_MM + 2),
              f"tab_length_mm {self.tab_length_mm:g} is too short for the {self.bolt_mm:g} mm bolt hole")
         need(self.tab_width_mm <= self.width_mm - 4 * MIN_WALL_MM,
              f"tab_width_mm {self.tab_width_mm:g} must be narrower than width_mm {self.width_mm:g}")
@@ -51,7 +67,7 @@ class PlatformPlate(Part):
         tab = box(L / 2 - 0.01, L / 2 + tl, -tw / 2, tw / 2, 0, self.half_mm)
         body = plate.fuse(tab).clean()
         recess = box(-L / 2 - 1, -L / 2 + tl + c, -tw / 2 - c, tw / 2 + c, -1, self.half_mm + c)
-        r = self.bolt_mm / 2 + c
+        r = self.bolt_hole_mm / 2
         holes = [cyl(r, T + 2, (L / 2 + tl / 2, 0, -1), Z), cyl(r, T + 2, (-L / 2 + tl / 2, 0, -1), Z)]
         return cut_all(body, [recess] + holes)
 
@@ -97,8 +113,13 @@ class TestPlatform(Robot):
 
     def components(self) -> list[Component]:
         x = self.length_mm / 2 + self.tab_length_mm / 2
-        return [Component("bolt_nut", "M3 x 10 bolt with nut (one per coupling)", 1.5,
+        return [Component("bolt_nut", f"{self.plate.bolt_size} x 10 ISO 4762 bolt with ISO 4032 nut (one per coupling)", 1.5,
                           ((x, 0.0, self.thickness_mm / 2),), (3.0, 3.0, 10.0), "box", "hardware", (0.6, 0.6, 0.6))]
+
+    def fasteners(self) -> list:
+        from .fasteners import bolted
+
+        return bolted(self.name, self.plate.bolt_size, self.thickness_mm, 1, "lap joint to the next platform", nut=True)
 
     def connector_properties(self, youngs_modulus_pa: float, gaps_mm: dict | None = None) -> tuple:
         return (couplings.bolt(self.tab_width_mm, self.thickness_mm / 2, self.tab_length_mm, self.bolt_mm,

@@ -96,6 +96,15 @@ class Robot:
     def components(self) -> list[Component]:
         return []
 
+    def drive_parts(self) -> list[tuple[str, str, str, int]]:
+        """Bought drive parts that are not in the mass table: (item, description, size, count)."""
+        return []
+
+    def fasteners(self) -> list:
+        """Bought screws, nuts and inserts (:class:`~cubot_cad.fasteners.FastenerUse`), sized from the
+        fastener table and the thickness each one clamps."""
+        return []
+
     @property
     def envelope_mm(self) -> tuple[float, float, float]:
         raise NotImplementedError

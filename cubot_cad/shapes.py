@@ -94,3 +94,30 @@ def tight_bbox(shape) -> tuple[float, float, float, float, float, float]:
     box_ = Bnd_Box()
     BRepBndLib.AddOptimal_s(shape.wrapped, box_, False, False)
     return tuple(box_.Get())
+
+
+def cone(r0: float, r1: float, h: float, base: Sequence[float], axis: Sequence[float] = Z) -> cq.Solid:
+    """Truncated cone of radius ``r0`` at ``base`` and ``r1`` a length ``h`` along ``axis``
+    (lead-ins: 45 deg chamfers and countersinks are cones with ``|r1 - r0| = h``)."""
+    return cq.Solid.makeCone(r0, r1, h, cq.Vector(*base), cq.Vector(*axis))
+
+
+def frustum(half0: tuple[float, float], half1: tuple[float, float], z0: float, z1: float,
+            centre: tuple[float, float] = (0.0, 0.0)) -> cq.Solid:
+    """A rectangular frustum along z: half-sizes (x, y) ``half0`` at ``z0`` and ``half1`` at ``z1``."""
+    cx, cy = centre
+
+    def rect(h, z):
+        a, b = h
+        return cq.Wire.makePolygon([cq.Vector(cx - a, cy - b, z), cq.Vector(cx + a, cy - b, z),
+                                    cq.Vector(cx + a, cy + b, z), cq.Vector(cx - a, cy + b, z)], close=True)
+
+    return cq.Solid.makeLoft([rect(half0, z0), rect(half1, z1)], True)
+
+
+def loft_x(outline0: Sequence[tuple[float, float]], x0: float, outline1: Sequence[tuple[float, float]],
+           x1: float) -> cq.Solid:
+    """A ruled solid between two (y, z) polygons with the same number of vertices at ``x0`` and ``x1``."""
+    w0 = cq.Wire.makePolygon([cq.Vector(x0, u, v) for u, v in outline0], close=True)
+    w1 = cq.Wire.makePolygon([cq.Vector(x1, u, v) for u, v in outline1], close=True)
+    return cq.Solid.makeLoft([w0, w1], True)

@@ -45,7 +45,7 @@ def test_export_and_check_one_robot(cli, tmp_path, pairs):
 
 
 def test_dock_reports_every_pair(cli, pairs):
-    res = cli("cad", "dock", "--json")
+    res = cli("cad", "dock", "--json", "--no-capture")  # capture: test_capture.py
     assert res.code == 0, res.err
     rows = {r["pair"]: r for r in res.json()["pairs"]}
     assert rows["cube-robot-front-rear"]["gap_mm"] == pytest.approx(1.7, abs=0.02)

@@ -97,3 +97,38 @@ def test_corrupt_manifest_is_an_input_error(tmp_path):
     (tmp_path / "manifest.json").write_text('{"schema_version": 99}')
     with pytest.raises(InputError, match="manifest"):
         load_manifest(tmp_path)
+
+
+def test_every_robot_has_a_bill_of_materials(export_dir, robots):
+    import csv
+
+    from cubot_cad.fasteners import THREADS
+
+    m = json.loads((export_dir / "manifest.json").read_text())
+    for name, r in robots.items():
+        assert m["robots"][name]["bom"] == f"{name}/bom.csv"
+        rows = list(csv.DictReader((export_dir / name / "bom.csv").open()))
+        printed = {x["item"]: int(x["quantity"]) for x in rows if x["category"] == "printed"}
+        assert printed == {p.name: q for p, q in r.printable_parts()}, name
+        for x in rows:
+            if x["category"] == "printed":
+                assert (export_dir / x["file"]).exists() and float(x["unit_mass_g"]) > 0
+        bought = {x["item"] for x in rows if x["category"] == "bought"}
+        assert {c.key for c in r.components()} - {"fasteners"} <= bought, name
+        fast = [x for x in rows if x["category"] == "fastener"]
+        assert fast and all(x["size"].split()[0] in THREADS and int(x["quantity"]) > 0 for x in fast), name
+    cub = {x["item"]: x for x in csv.DictReader((export_dir / "cubot" / "bom.csv").open())}
+    assert int(cub["M3 insert"]["quantity"]) == 4 and int(cub["M3x20 ISO 10642"]["quantity"]) == 16
+    assert int(cub["latch_shaft"]["quantity"]) == 2 and int(cub["wheel"]["quantity"]) == 2
+    assert {"motor", "battery", "servo"} <= {w for x in cub.values() for w in ("motor", "battery", "servo")
+                                              if w in x["item"]}
+
+
+def test_the_manifest_records_each_parts_print_settings(export_dir):
+    m = json.loads((export_dir / "manifest.json").read_text())
+    ps = {p["part"]: p["print_settings"] for p in m["parts"]}
+    needs = {k for k, v in ps.items() if v["supports"]}
+    assert needs == {"cross_key", "cover_cross_hole", "cube_wheel_block", "octbot_ring"}
+    assert all(ps[k]["support_reason"] for k in needs)
+    assert ps["pinset_e_grooved_pin"]["infill_percent"] == 100 and ps["cubot_body"]["infill_percent"] == 25
+    assert all(v["layer_mm"] == 0.2 and v["nozzle_mm"] == 0.4 for v in ps.values())

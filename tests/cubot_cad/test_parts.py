@@ -55,9 +55,12 @@ def test_grooved_pin_volume_is_the_analytic_sum_of_its_cylinders(c):
     pin = GroovedPin(spec=s)
     x_head = -s.wall_mm - 2 * s.plate_mm - s.locking_plate_mm  # back face of the pin-locking plate
     g0, g1 = pin.groove_mm
+    r, ch = s.pin_diameter_mm / 2, s.pin_chamfer_mm
+    cone = math.pi * ch / 3 * (r * r + r * (r - ch) + (r - ch) ** 2)  # the 45 deg lead-in on the tip
     expected = math.pi * ((s.head_diameter_mm / 2) ** 2 * s.head_mm
-                          + (s.pin_diameter_mm / 2) ** 2 * (s.protrusion_mm - x_head - s.head_mm - (g1 - g0))
-                          + (s.groove_diameter_mm / 2) ** 2 * (g1 - g0))
+                          + r ** 2 * (s.protrusion_mm - x_head - s.head_mm - (g1 - g0) - ch)
+                          + (s.groove_diameter_mm / 2) ** 2 * (g1 - g0)) + cone
+    assert ch > 0
     assert pin.volume_mm3 == pytest.approx(expected, rel=1e-6)
 
 
@@ -65,8 +68,10 @@ def test_platform_volume_is_plate_plus_tab_minus_recess_and_holes():
     from cubot_cad.platform import PlatformPlate
 
     p = PlatformPlate()
+    from cubot_cad.fasteners import clearance_hole_mm
+
     c, h = p.clearance_mm, p.thickness_mm / 2
-    r = p.bolt_mm / 2 + c
+    r = clearance_hole_mm("M3") / 2  # ISO 273 medium, from the fastener table
     plate = p.length_mm * p.width_mm * p.thickness_mm
     tab = p.tab_length_mm * p.tab_width_mm * h
     recess = (p.tab_length_mm + c) * (p.tab_width_mm + 2 * c) * (h + c)
@@ -81,7 +86,7 @@ def test_plate_volume_tracks_its_holes_and_clearance():
     def vol(c):
         s = FrontRearSpec(clearance_mm=c)
         r = s.pin_diameter_mm / 2 + c
-        expected = s.plate_mm * (s.block_mm ** 2 - 3 * math.pi * r * r - 4 * math.pi * 1.7 ** 2)
+        expected = s.plate_mm * (s.block_mm ** 2 - 3 * math.pi * r * r - 4 * math.pi * (3.4 / 2) ** 2)  # M3, ISO 273
         return LatchFrontPlate(spec=s).volume_mm3, expected
 
     for c in (0.1, 0.2, 0.3):
@@ -159,7 +164,9 @@ def test_mass_properties_add_printed_parts_and_the_component_table(robots):
 def test_exposed_heights_are_measured_on_the_wheel_and_caster_solids(robots):
     cub = robots["cubot"]
     assert cub.wheel_exposed_mm == pytest.approx(15.0, abs=1e-6)  # thesis: 15 mm
-    assert cub.caster_exposed_mm == pytest.approx(10.0 / 3, abs=1e-6)  # a third of a 10 mm caster
+    # 10 mm caster retained by a 0.3 mm undercut (mouth 0.3 mm narrower than the ball each side)
+    expected = 5.0 - math.sqrt((5.0 + 0.2) ** 2 - (5.0 - 0.3) ** 2)
+    assert cub.caster_exposed_mm == pytest.approx(expected, abs=1e-6) and expected == pytest.approx(2.775, abs=1e-3)
     from cubot_cad.cubot import CuBot
 
     other = CuBot(wheel_exposed_mm=14.5)

@@ -29,7 +29,7 @@ EPILOG = """examples:
   voidcross cad export                            all robots: STL + STEP + GLB + manifest into exports/
   voidcross cad export --robot cubot --format stl,step,3mf --material pla --out /tmp/cubot
   voidcross cad export --clearance-mm 0.3         looser fit for a worn printer
-  voidcross cad dock --json                       docked gaps and interference of every coupling
+  voidcross cad dock --json                       docked gap, interference and capture range of every coupling
   voidcross cad check exports/                    watertight, manifold, bed, thinnest wall, slicing
   voidcross cad render --out /tmp/img --docs      PNGs of robots, docked pairs, CuBot bridge (+ docs/img)
   voidcross cad bench                             time `cad export --robot all` incl. import (goal 60 s)
@@ -140,6 +140,18 @@ def run_dock(args) -> int:
         out_dir(args.out, "--out", create=False)  # before the docking checks
     pairs = [dock(n, args.clearance_mm) for n in progress(names, "docking", len(names))]
     rows = [p.summary() for p in pairs]
+    captures = {}
+    if not args.no_capture:
+        from cubot_cad.capture import measure
+        from cubot_cad.docking import ROBOT_OF_PAIR
+        from cubot_cad.export import make_robot
+
+        for p, row in zip(progress(pairs, "capture", len(pairs)), rows, strict=True):
+            cap = measure(make_robot(ROBOT_OF_PAIR[p.name], args.clearance_mm), p.name, p)
+            captures[p.name] = cap
+            row["capture"] = None if cap is None else cap.summary()
+            if cap is not None and not cap.ok:
+                row["ok"] = False
     if args.out:
         from cubot_cad.jsonrecord import write_json_atomic
 
@@ -148,8 +160,18 @@ def run_dock(args) -> int:
         if args.step:
             for p in pairs:
                 p.assembly().export(str(d / f"{p.name}.step"), exportType="STEP")
+    def cap_text(p):
+        if p.name not in captures:
+            return ""
+        c = captures[p.name]
+        if c is None:
+            return "   capture n/a (bolted by hand)"
+        return (f"   capture {c.min_offset_mm:g} mm / {c.min_angle_deg:g} deg"
+                + ("" if c.ok else " FAIL (< 1 mm / 3 deg)"))
+
     human = "\n".join(f"{p.name:<24} gap {p.gap_mm:7.3f} mm   interference {p.interference_mm3:.4f} mm^3"
                       + (f"   lateral play {p.play_mm:.3f} mm" if p.play_mm is not None else "")
+                      + cap_text(p)
                       + ("" if p.ok else f"   FAIL ({'; '.join(p.problems())})") for p in pairs)
     emit(args, {"clearance_mm": args.clearance_mm, "pairs": rows}, human)
     return 0 if all(r["ok"] for r in rows) else 1
@@ -336,12 +358,15 @@ def register(sub, common) -> None:
                    help="maintainers: also write cubot_cad/data/robot_properties.json (needs --robot all)")
     e.set_defaults(func=run_export)
 
-    d = csub.add_parser("dock", parents=[common], help="docked pairs: gap and interference of every coupling",
+    d = csub.add_parser("dock", parents=[common], help="docked pairs: gap, interference and capture range of every coupling",
                         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     add_common(d, robot=False)
     d.add_argument("--pair", default="all", help="pair name(s) or all (see cubot_cad.docking.PAIRS)")
     d.add_argument("--out", default=None, help="also write docked_pairs.json (and --step assemblies) here")
     d.add_argument("--step", action="store_true", help="with --out: a STEP assembly per pair")
+    d.add_argument("--no-capture", action="store_true",
+                   help="skip the capture range (measured by driving one robot in misaligned by 0.5-2 mm and "
+                        "1.5-6 deg along each transverse axis; about 1-3 min for all pairs)")
     d.set_defaults(func=run_dock)
 
     c = csub.add_parser("check", parents=[common], help="printability of exported STLs",

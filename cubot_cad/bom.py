@@ -1,0 +1,81 @@
+"""Bill of materials per robot: ``<robot>/bom.csv``, written by ``cad export``.
+
+Three kinds of rows (``category``):
+
+* ``printed``: every distinct printed part with its quantity, its size as printed (mm, the
+  exported STL's bounding box), its mass at the export's material (solid, as the manifest) and
+  its file;
+* ``bought``: the robot's non-printed components (motors, wheels, caster balls, battery,
+  boards, servos, sensors) with the size of their stand-in in the CAD and their assumed mass
+  (:meth:`~cubot_cad.robot.Robot.components`); the component table's lump ``fasteners`` (a mass
+  estimate) is replaced by the next kind; drive parts outside the mass table (the latch blades'
+  D-shafts, :meth:`~cubot_cad.robot.Robot.drive_parts`) are listed too;
+* ``fastener``: screws, nuts and heat-set inserts from :meth:`~cubot_cad.robot.Robot.fasteners`,
+  sized from the ISO table (:mod:`cubot_cad.fasteners`), one row per kind, size and length,
+  with where they go.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from collections import OrderedDict
+
+COLUMNS = ("robot", "category", "item", "description", "size", "quantity", "unit_mass_g", "file", "where")
+
+
+def _size_text(c) -> str:
+    if c.kind == "box":
+        return " x ".join(f"{v:g}" for v in c.size_mm) + " mm"
+    if c.kind == "cyl_y":
+        return f"diameter {c.size_mm[0]:g} x {c.size_mm[1]:g} mm"
+    return f"diameter {c.size_mm[0]:g} mm"
+
+
+def bom_rows(robot, density_kg_m3: float, printed_sizes_mm: dict | None = None) -> list[dict]:
+    """The BOM rows of ``robot`` (printed parts at ``density_kg_m3``; ``printed_sizes_mm``: part name ->
+    as-printed size, else the part's own bounding box)."""
+    rows = []
+    for part, qty in robot.printable_parts():
+        size = (printed_sizes_mm or {}).get(part.name)
+        if size is None:
+            from .shapes import tight_bbox
+
+            b = tight_bbox(part.printable)
+            size = [b[3] - b[0], b[4] - b[1], b[5] - b[2]]
+        rows.append({"robot": robot.name, "category": "printed", "item": part.name, "description": part.description,
+                     "size": " x ".join(f"{v:.1f}" for v in size) + " mm (as printed)", "quantity": qty,
+                     "unit_mass_g": round(part.volume_mm3 * 1e-9 * density_kg_m3 * 1e3, 2),
+                     "file": f"{robot.name}/{part.name}.stl", "where": ""})
+    for c in robot.components():
+        if c.key == "fasteners":
+            continue  # a mass lump in the component table; the fastener rows below list the real ones
+        rows.append({"robot": robot.name, "category": "bought", "item": c.key, "description": c.description,
+                     "size": _size_text(c), "quantity": c.count, "unit_mass_g": c.unit_mass_g, "file": "",
+                     "where": ""})
+    for item, desc, size, count in robot.drive_parts():
+        rows.append({"robot": robot.name, "category": "bought", "item": item, "description": desc, "size": size,
+                     "quantity": count, "unit_mass_g": "", "file": "", "where": ""})
+    agg: OrderedDict = OrderedDict()
+    for u in robot.fasteners():
+        key = (u.kind, u.size, u.length_mm)
+        if key not in agg:
+            agg[key] = {"use": u, "count": 0, "where": []}
+        agg[key]["count"] += u.count
+        agg[key]["where"].append(f"{u.count} {u.where}")
+    for (kind, size, length), a in agg.items():
+        u = a["use"]
+        item = f"{size} {kind}" if kind in ("insert", "ISO 4032") else f"{size}x{length:g} {kind}"
+        rows.append({"robot": robot.name, "category": "fastener", "item": item, "description": u.description,
+                     "size": f"{size}" + ("" if kind in ("insert", "ISO 4032") else f" x {length:g} mm"),
+                     "quantity": a["count"], "unit_mass_g": "", "file": "", "where": "; ".join(a["where"])})
+    return rows
+
+
+def bom_csv(rows: list[dict]) -> str:
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=COLUMNS, lineterminator="\n")
+    w.writeheader()
+    for r in rows:
+        w.writerow(r)
+    return buf.getvalue()
