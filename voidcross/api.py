@@ -486,7 +486,7 @@ def fem_table(properties: str | os.PathLike | None = None, robot: str = "cubot",
         robot: robot model in the properties file (``cubot``, ``octbot``, ``cube-robot``).
         clearance_mm: climb clearance in mm (default: the robot's exposed main-wheel height,
             15 mm for the CuBot).
-        caster: strict alternative: clearance = the exposed caster height (3.3 mm).
+        caster: strict alternative: clearance = the exposed caster height (from the record: 2.78 mm for the CuBot since the caster socket holds its ball with a 0.3 mm undercut).
         connectors: ``"fe"`` (default, as the CLI: the CuBot front-rear coupling's stiffness from
             the cached 3D finite-element solve, the rest from the record, each with its
             provenance), ``"properties"`` (the robot's own coupling record, hand formulas) or

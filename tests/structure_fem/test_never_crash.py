@@ -241,21 +241,28 @@ def _calibrated_cubot_inputs():
 
 
 def test_root_cause_plain_gravity_ramp_stalls_and_the_smoothing_continuation_converges():
-    """The reported configuration (calibrated CuBot couplings, line 15 rows, 7 over a 7-wide void):
-    the plain 8-step ramp stalls in the dead bands at a load factor of about 0.003; the smoothing
-    continuation converges at its first attempt, to what a fine plain ramp finds (1000 steps: with
-    the pins' vertical slip as a second band per joint, 100 steps no longer converge)."""
+    """The reported kind of configuration (calibrated CuBot couplings, a long line cantilevered
+    half over the void): a plain 8-step ramp stalls in the dead bands for some of them (which
+    ones moves with the record's mass and play: 15 rows / 7 over a 7-wide void stalled before the
+    CAD's lead-ins and bosses changed the mass, 13 / 6 / 6 after); the smoothing continuation
+    converges on every one at its first attempt, to what a fine plain ramp finds (1000 steps:
+    with the pins' vertical slip as a second band per joint, 100 steps no longer converge)."""
     from structure_fem.model import Config, SolverOptions, _solve_once
 
     inp = _calibrated_cubot_inputs()
-    cfg = Config(Structure("line"), 15, 7, 7)
-    with pytest.raises(SolverFailure):
-        _solve_once(cfg, inp.robot, inp.connectors, SolverOptions(smoothing_start=0.0))
-    fine = _solve_once(cfg, inp.robot, inp.connectors, FINE_PLAIN)
-    cont = _solve_once(cfg, inp.robot, inp.connectors, SolverOptions())
-    assert cont.tip_deflection_mm == pytest.approx(fine.tip_deflection_mm, rel=1e-6)
-    assert cont.tipping_factor == pytest.approx(fine.tipping_factor, rel=1e-6)
-    assert cont.reactions_n.sum() == pytest.approx(cont.total_weight_n, rel=1e-6)
+    stalled = []
+    for rows, over, w in ((15, 7, 7), (13, 6, 6), (11, 5, 5)):
+        cfg = Config(Structure("line"), rows, over, w)
+        try:
+            _solve_once(cfg, inp.robot, inp.connectors, SolverOptions(smoothing_start=0.0))
+        except SolverFailure:
+            stalled.append(cfg)
+        fine = _solve_once(cfg, inp.robot, inp.connectors, FINE_PLAIN)
+        cont = _solve_once(cfg, inp.robot, inp.connectors, SolverOptions())
+        assert cont.tip_deflection_mm == pytest.approx(fine.tip_deflection_mm, rel=1e-6)
+        assert cont.tipping_factor == pytest.approx(fine.tipping_factor, rel=1e-6)
+        assert cont.reactions_n.sum() == pytest.approx(cont.total_weight_n, rel=1e-6)
+    assert stalled, "no plain ramp stalled: the root-cause cases moved, pick new ones"
 
 
 @pytest.mark.parametrize("structure,w", [(Structure("line"), 5), (Structure("arch", 4, 2, "staggered"), 8),
