@@ -12,9 +12,10 @@ import csv
 import io
 import math
 import os
-import tempfile
 from dataclasses import asdict
 from pathlib import Path
+
+from cubot_cad.atomic import write_text
 
 from .limits import StructureLimits, thesis_limits
 from .study import (
@@ -38,17 +39,8 @@ COLUMNS = (
 
 
 def write_text_atomic(path: str | os.PathLike, text: str) -> Path:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    """Complete or not at all, world-readable (:mod:`cubot_cad.atomic`)."""
+    return write_text(path, text)
 
 
 def _cell(v, md: bool) -> str:

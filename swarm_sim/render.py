@@ -10,11 +10,12 @@ through imageio-ffmpeg or to GIF through imageio, or as PNG snapshots.
 from __future__ import annotations
 
 import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from cubot_cad.atomic import atomic_path, write_via
 
 from .errors import InputError
 from .params import Params
@@ -246,12 +247,6 @@ def draw(f: Frame, p: Params) -> Renderer:
     return r
 
 
-def _atomic_target(path: Path) -> Path:
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
-    os.close(fd)
-    return Path(tmp)
-
-
 def write_video(frames: list, p: Params, path: str | os.PathLike, fps: int = 10, progress=lambda it, total: it) -> Path:
     """MP4 (imageio-ffmpeg) or GIF (imageio) of the frames; written atomically."""
     path = Path(path)
@@ -262,24 +257,19 @@ def write_video(frames: list, p: Params, path: str | os.PathLike, fps: int = 10,
         import imageio.v2 as imageio
     except ImportError as exc:  # pragma: no cover - video extra missing
         raise InputError(f"--video needs imageio (pip install 'voidcross[video]'): {exc}") from None
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = _atomic_target(path)
     rend = Renderer(p)
     try:
         # imageio's GIF writer (pillow) takes the frame delay in milliseconds
         kw = {"fps": fps, "macro_block_size": 1} if ext == ".mp4" else {"duration": 1000.0 / fps, "loop": 0}
-        with imageio.get_writer(tmp, format="FFMPEG" if ext == ".mp4" else "GIF", **kw) as w:
+        with atomic_path(path) as tmp, imageio.get_writer(tmp, format="FFMPEG" if ext == ".mp4" else "GIF",
+                                                          **kw) as w:
             for f in progress(frames, len(frames)):
                 fig = rend.update(f)
                 fig.canvas.draw()
                 img = np.asarray(fig.canvas.buffer_rgba())[:, :, :3]
                 w.append_data(img)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
     finally:
         rend.close()
-        if tmp.exists():
-            tmp.unlink()
     return path
 
 
@@ -323,10 +313,7 @@ def write_snapshots(frames: list, p: Params, directory: str | os.PathLike, count
         f = frames[i]
         fig = rend.update(f)
         target = d / f"t{f.t_s:09.2f}s.png"
-        tmp = _atomic_target(target)
-        fig.savefig(tmp, format="png", dpi=150)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, target)
+        write_via(target, lambda tmp, fig=fig: fig.savefig(tmp, format="png", dpi=150))
         out.append(target)
     rend.close()
     return out

@@ -8,8 +8,9 @@ from __future__ import annotations
 
 import csv
 import os
-import tempfile
 from pathlib import Path
+
+from cubot_cad.atomic import atomic_path
 
 from ..errors import InputError
 from .store import TIME_COLUMNS, ResultStore
@@ -33,13 +34,6 @@ def export_rows(store: ResultStore) -> list[dict]:
     return out
 
 
-def _atomic_target(path: Path):
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    return Path(tmp)
-
-
 def export_db(db: str | os.PathLike, to: str | os.PathLike) -> dict:
     """Write ``to`` (``.csv`` or ``.parquet``); returns ``{"path", "rows", "format"}``."""
     to = Path(to)
@@ -55,8 +49,7 @@ def export_db(db: str | os.PathLike, to: str | os.PathLike) -> dict:
                              "(pip install pyarrow, or export to .csv)") from None
     with ResultStore.open_readonly(db) as store:
         rows = export_rows(store)
-    tmp = _atomic_target(to)
-    try:
+    with atomic_path(to) as tmp:
         if fmt == "csv":
             with open(tmp, "w", newline="") as fh:
                 w = csv.DictWriter(fh, fieldnames=list(EXPORT_COLUMNS))
@@ -66,8 +59,4 @@ def export_db(db: str | os.PathLike, to: str | os.PathLike) -> dict:
         else:
             table = pa.Table.from_pylist(rows) if rows else pa.table({c: [] for c in EXPORT_COLUMNS})
             pq.write_table(table, tmp)
-        os.replace(tmp, to)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
     return {"path": str(to), "rows": len(rows), "format": fmt}

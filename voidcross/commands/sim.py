@@ -3,10 +3,7 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
-import os
-import tempfile
 from pathlib import Path
 
 from swarm_sim.errors import InputError
@@ -72,12 +69,9 @@ exploration rate measured in the same call.
 
 
 def _write_json_atomic(path: Path, payload: dict) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    with os.fdopen(fd, "w") as fh:
-        json.dump(payload, fh, indent=2, allow_nan=False)
-    os.chmod(tmp, 0o644)
-    os.replace(tmp, path)
+    from cubot_cad.atomic import write_json
+
+    write_json(path, payload, allow_nan=False)
 
 
 def _under(out: Path, name: str) -> Path:

@@ -10,9 +10,10 @@ from __future__ import annotations
 import os
 import re
 import shutil
-import tempfile
 import time
 from pathlib import Path
+
+from cubot_cad.atomic import write_text
 
 from . import figures as F
 from .compare import cell_text, compare_table, runs_for, table_summary
@@ -36,11 +37,7 @@ MAX_ASSETS = 80
 
 
 def _write_atomic(path: Path, text: str) -> None:
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    with os.fdopen(fd, "w") as fh:
-        fh.write(text)
-    os.chmod(tmp, 0o644)  # mkstemp makes 0600: a report is for others to read
-    os.replace(tmp, path)
+    write_text(path, text)  # complete or not at all, 0644 (cubot_cad.atomic)
 
 
 def _fmt(v, digits: int = 0) -> str:
