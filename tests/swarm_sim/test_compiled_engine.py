@@ -114,19 +114,6 @@ def line_then_two(path):
     return str(path)
 
 
-def tapering_record(path, line_span=2, k=2, B=2, span=6):
-    """A small tapering-arch record (as in test_tapering_arch.py): blocks of 2 rows, 2 layers."""
-    from structure_fem.limits import StructureLevel, StructureLimits, tapered_arch_robots
-
-    levels = (
-        StructureLevel("line", "line", 1, 1, 1, line_span, 2.0, 0, tuple(3 * w for w in range(1, line_span + 1))),
-        StructureLevel("arch-t", "arch", 2 * k, k, line_span + 1, span, 1.0, 1,
-                       tuple(tapered_arch_robots(k, B, w)["total"] for w in range(line_span + 1, span + 1)),
-                       taper_block_rows=B),
-    )
-    return str(StructureLimits(source="test", robot="cubot", clearance_mm=15.0, levels=levels).save(path))
-
-
 def test_a_switch_to_two_lines_that_crosses_is_the_same(tmp_path):
     p = resolve_params("case-d", 30, 4, line_then_two(tmp_path / "s.json"), structure="switch",
                        finish_delivery=True)
@@ -135,7 +122,7 @@ def test_a_switch_to_two_lines_that_crosses_is_the_same(tmp_path):
     assert stats["kernel_steps"] > 0.8 * res.steps
 
 
-def test_a_tapering_arch_is_the_same(tmp_path):
+def test_a_tapering_arch_is_the_same(tmp_path, tapering_record):
     """While a tapering arch exists every step is a reference step (the kernel does not know its
     feet); the search and the line's build before the switch are the kernel's. (A custom small
     record: the thesis record's arches start at 15 widths and ~200 robots, minutes per reference run.)"""

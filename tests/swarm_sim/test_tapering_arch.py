@@ -8,8 +8,6 @@ import numpy as np
 import pytest
 
 from structure_fem.limits import (
-    StructureLevel,
-    StructureLimits,
     taper_half_level,
     tapered_arch_robots,
 )
@@ -19,16 +17,6 @@ from swarm_sim.runner import resolve_params, run_scenario, simulate
 from swarm_sim.state import OPEN, Mode
 
 V = 4  # void width (robot widths) of the simulated cases
-
-
-def record(path, line_span=2, k=2, B=2, span=6):
-    levels = (
-        StructureLevel("line", "line", 1, 1, 1, line_span, 2.0, 0, tuple(3 * w for w in range(1, line_span + 1))),
-        StructureLevel("arch-t", "arch", 2 * k, k, line_span + 1, span, 1.0, 1,
-                       tuple(tapered_arch_robots(k, B, w)["total"] for w in range(line_span + 1, span + 1)),
-                       taper_block_rows=B),
-    )
-    return str(StructureLimits(source="test", robot="cubot", clearance_mm=15.0, levels=levels).save(path))
 
 
 def params(limits, robots, width=V, **kw):
@@ -74,8 +62,8 @@ class Watch:
 
 
 @pytest.fixture(scope="module")
-def lim(tmp_path_factory):
-    return record(tmp_path_factory.mktemp("taper") / "limits.json")
+def lim(tmp_path_factory, tapering_record):
+    return tapering_record(tmp_path_factory.mktemp("taper") / "limits.json")
 
 
 @pytest.fixture(scope="module")
@@ -155,10 +143,10 @@ def test_rule_minimum_crosses_with_everyone_delivered_and_one_fewer_retreats(run
     assert (state.mode == Mode.STOPPED).all()
 
 
-def test_block_rows_and_span_move_the_switch_and_the_counts(tmp_path):
-    base = params(record(tmp_path / "a.json"), 10)
-    longer_blocks = params(record(tmp_path / "b.json", B=3), 10)
-    later_switch = params(record(tmp_path / "c.json", line_span=3), 10)
+def test_block_rows_and_span_move_the_switch_and_the_counts(tmp_path, tapering_record):
+    base = params(tapering_record(tmp_path / "a.json"), 10)
+    longer_blocks = params(tapering_record(tmp_path / "b.json", B=3), 10)
+    later_switch = params(tapering_record(tmp_path / "c.json", line_span=3), 10)
     assert longer_blocks.min_robots_rule > base.min_robots_rule
     assert longer_blocks.record_min_robots > base.record_min_robots
     assert later_switch.min_robots_rule != base.min_robots_rule
