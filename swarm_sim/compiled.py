@@ -56,7 +56,7 @@ from .state import OPEN, WALKING_MODES, Mode, Phase
 _EXPLORE, _TARGET = int(Mode.EXPLORE), int(Mode.TARGET)
 _P_SEARCH, _P_BUILD, _P_DELIVERED, _P_WANDER = (int(Phase.SEARCH), int(Phase.BUILD), int(Phase.DELIVERED),
                                                 int(Phase.WANDER))
-_ENDED = (int(Phase.SUCCESS), int(Phase.RETREATED), int(Phase.TIMEOUT))
+_ENDED = (int(Phase.SUCCESS), int(Phase.RETREATED), int(Phase.TIMEOUT), int(Phase.STRANDED))
 _WALKING_LUT = np.zeros(len(Mode), dtype=bool)
 _WALKING_LUT[list(WALKING_MODES)] = True
 

@@ -82,8 +82,8 @@ class FaultSpec:
         return not self.schedule and not any(r > 0 for r in self.rates_per_h.values())
 
     def describe(self) -> str:
-        parts = [f"{m}:{r:g}/h" for m, r in self.rates_per_h.items() if r > 0]
-        parts += [f"{f.robot}@{f.t_s:g}:{f.mode}" for f in self.schedule]
+        parts = [f"{m}:{r:.15g}/h" for m, r in self.rates_per_h.items() if r > 0]
+        parts += [f"{f.robot}@{f.t_s:.15g}:{f.mode}" for f in self.schedule]
         return ",".join(parts) or "none"
 
     def check_robots(self, robots: int) -> None:
@@ -238,6 +238,46 @@ def rate_for_fraction(fraction: float, duration_s: float) -> float:
     return -math.log1p(-fraction) / duration_s * 3600.0
 
 
+# ---------------------------------------------------------------------------- in the step
+
+_MODE_OF_BITS = {v: k for k, v in BIT.items()}
+
+
+def fail(tk) -> None:
+    """The step's first phase: every fault due by the end of this step happens (the physics:
+    ``tk.fault`` gains the mode's :data:`EFFECT`; no robot reads another's flags, see
+    :mod:`swarm_sim.detection`). Each new fault is one ``fault`` event naming the mode and
+    what the robot was doing."""
+    sch = tk.fault_schedule
+    if sch is None:
+        return
+    k = tk.fault_next
+    n = len(sch)
+    while k < n and sch.t_s[k] <= tk.t + 1e-9:
+        r, b = int(sch.robot[k]), int(sch.bits[k])
+        k += 1
+        new = tk.fault[r] | EFFECT[b]
+        if new == tk.fault[r]:
+            continue  # already lost everything this mode takes
+        first = tk.fault[r] == 0
+        tk.fault[r] = new
+        if first:
+            tk.fault_t[r] = tk.t
+        from .state import Mode
+
+        tk.ev("fault", r, mode=_MODE_OF_BITS[b], doing=Mode(int(tk.mode[r])).name.lower())
+    tk.fault_next = k
+
+
+def init_arrays(schedule: FaultSchedule | None, robots: int):
+    """The fault fields of a run's first state: (schedule, flags, first-fault times, known) or
+    all None when the run has no fault."""
+    if schedule is None or len(schedule) == 0:
+        return None, None, None, None
+    return (schedule, np.zeros(robots, dtype=np.int8), np.full(robots, math.inf),
+            np.zeros(robots, dtype=bool))
+
+
 __all__ = ["BIT", "DRIVE", "EFFECT", "FAULT_STREAM", "MODES", "SENSOR", "TOTAL", "Fault", "FaultSchedule",
-           "FaultSpec", "draw_schedule", "expected_failed_fraction", "from_table", "parse_faults",
+           "FaultSpec", "draw_schedule", "expected_failed_fraction", "fail", "from_table", "init_arrays", "parse_faults",
            "rate_for_fraction"]

@@ -20,7 +20,8 @@ from . import taper as T
 from .motion import drive_along
 from .navigation import cost_field, nav_grid
 from .params import level_params
-from .recruitment import candidates, closest
+from .faults import DRIVE
+from .recruitment import answering, candidates
 from .release import release
 from .retreat import start_retreat
 from .state import Mode, Structure
@@ -47,7 +48,7 @@ def start_fill_near(tk: Tick, g: T.ShellGeometry) -> None:
     """Call the closest free robots (by path) to the next group of near-foot columns."""
     free = candidates(tk)
     cols = T.next_fill_group(tk.st.shell, g, T.NEAR)[:free.size]
-    chosen = closest([_staging_field(tk, g, c) for c in cols], list(free), tk.x, tk.y)
+    chosen = answering(tk, [_staging_field(tk, g, c) for c in cols], list(free))
     if not chosen:
         start_retreat(tk, "stalled")
         return
@@ -87,6 +88,8 @@ def advance_job(tk: Tick) -> None:
             if rx == field.goal_x and ry == field.goal_y and rh == dir_h:
                 continue
             arrived = False
+            if tk.is_failed(r, DRIVE):
+                continue  # it cannot come: the round stalls and the watchdog calls it off
             nx, ny, nh, _ = drive_along(field, rx, ry, rh, p, tk.world, final_heading=dir_h, align_h=dir_h)
             tk.x[r], tk.y[r], tk.h[r] = nx, ny, nh
             left = field.cost_at(nx, ny)

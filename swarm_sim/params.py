@@ -47,6 +47,7 @@ TOML_KEYS = {
     "sim.dt_s": "dt_s", "sim.max_time_s": "max_time_s",
     "sim.wander_after_retreat_s": "wander_after_retreat_s", "sim.finish_delivery": "finish_delivery",
     "behaviour.recruit_stall_s": "recruit_stall_s", "behaviour.stall_s": "stall_s",
+    "behaviour.heartbeat_s": "heartbeat_s", "behaviour.heartbeat_misses": "heartbeat_misses",
 }
 
 
@@ -103,6 +104,14 @@ class Params:
     #: tapering arch: seconds a robot takes to climb (or come down) one layer onto a foot
     #: column; our assumption, the thesis does not say how robots get up
     climb_s_per_layer: float = 2.0
+    #: robots that fail mid-task (swarm_sim.faults): the spec in its command-line form
+    #: (``drive:0.5/h,3@120:total``; "" = none), from ``--faults`` or the preset's ``[faults]``
+    faults: str = ""
+    #: structure members and the seed broadcast a heartbeat every ``heartbeat_s``; a robot whose
+    #: heartbeat is missed ``heartbeat_misses`` times running is known to have failed (our
+    #: assumption: the thesis's robots broadcast, it does not give a rate)
+    heartbeat_s: float = 1.0
+    heartbeat_misses: int = 3
     # resolved from the limits record (filled by with_limits)
     limits_source: str = "unresolved"
     ground_ratio: float = 2.0
@@ -175,6 +184,14 @@ class Params:
         req(isinstance(self.climb_s_per_layer, float) and math.isfinite(self.climb_s_per_layer)
             and self.climb_s_per_layer >= 0,
             f"climb_s_per_layer must be a number >= 0 (seconds), got {self.climb_s_per_layer!r}")
+        pos("heartbeat_s")
+        req(isinstance(self.heartbeat_misses, int) and not isinstance(self.heartbeat_misses, bool)
+            and 1 <= self.heartbeat_misses <= 100,
+            f"heartbeat_misses must be an integer in 1..100, got {self.heartbeat_misses!r}")
+        req(isinstance(self.faults, str), f"faults must be a spec string, got {self.faults!r}")
+        from .faults import parse_faults
+
+        parse_faults(self.faults).check_robots(self.robots)
         req(self.wander_after_retreat_s >= 0, f"wander_after_retreat_s must be >= 0, got {self.wander_after_retreat_s}")
         req(0 <= self.random_turn_prob <= 1, f"random_turn_prob must be in 0..1, got {self.random_turn_prob}")
         req(self.levy_max_cm >= self.levy_min_cm,
@@ -228,6 +245,12 @@ def _flatten(doc: dict, source: str) -> dict:
             continue
         if not isinstance(body, dict):
             raise InputError(f"{source}: top-level key {section!r} is not a [section]")
+        if section == "faults":
+            from .faults import from_table
+
+            spec = from_table(body, f"{source}: [faults]")
+            flat["faults"] = "" if spec.empty else spec.describe()
+            continue
         for key, value in body.items():
             name = TOML_KEYS.get(f"{section}.{key}")
             if name is None:

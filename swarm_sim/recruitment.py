@@ -27,6 +27,7 @@ from dataclasses import replace
 import numpy as np
 
 from . import structure as S
+from .faults import DRIVE, TOTAL
 from .motion import drive_along, goto
 from .navigation import BLOCKED, CostField, cost_field, disc_clear, footprint_mask, nav_grid
 from .params import Params
@@ -165,11 +166,27 @@ def closest(fields: list[CostField], pool: list[int], x: np.ndarray, y: np.ndarr
 
 
 def candidates(tk: Tick) -> np.ndarray:
-    """Free robots that may be called (not passed over for this dock)."""
+    """Free robots that may be called (not passed over for this dock, not known to have failed)."""
     free = tk.mode == _EXPLORE
     if tk.st is not None and tk.st.passed_over:
         free[list(tk.st.passed_over)] = False
+    if tk.known is not None:
+        free &= ~tk.known
     return np.flatnonzero(free)
+
+
+def answering(tk: Tick, fields: list[CostField], pool: list[int]) -> list[int]:
+    """:func:`closest`, then the call: a robot that does not answer (a total failure) is known to
+    have failed and the next closest is called instead."""
+    pool = list(pool)
+    while True:
+        chosen = closest(fields, pool, tk.x, tk.y)
+        silent = [r for r in chosen if tk.is_failed(r, TOTAL)]
+        if not silent:
+            return chosen
+        for r in silent:
+            tk.detect(r, "no_reply_to_call")
+            pool.remove(r)
 
 
 def call(tk: Tick, slot_ids: list[int]) -> list[int]:
@@ -177,7 +194,7 @@ def call(tk: Tick, slot_ids: list[int]) -> list[int]:
     structure's action becomes ``recruit``."""
     st, p = tk.st, tk.p
     fields = [slot_field(st, p, tk.world, q)[0] for q in slot_ids]
-    chosen = closest(fields, list(candidates(tk)), tk.x, tk.y)
+    chosen = answering(tk, fields, list(candidates(tk)))
     if not chosen:
         return chosen
     tk.mode[chosen] = _RECRUIT
@@ -205,6 +222,10 @@ def approach(tk: Tick) -> None:
         if rx == dxp and ry == dyp and rh == dir_h:
             continue
         arrived_all = False
+        if tk.is_failed(r, DRIVE):  # it cannot come: no motion when called (hand_over detects it)
+            if tk.t - since[i] > p.recruit_stall_s:
+                stalled.append(i)
+            continue
         if final[i]:
             # the drive in is part of the structure, which ignores obstacles (assumption 13)
             nx, ny, nh, arrived = goto(rx, ry, rh, dxp, dyp, p, world.without_obstacles, final_heading=dir_h,
@@ -217,6 +238,8 @@ def approach(tk: Tick) -> None:
             in_h = dir_h if math.hypot(dxp - ax, dyp - ay) < 1e-9 else math.atan2(dyp - ay, dxp - ax)
             nx, ny, nh, final[i] = drive_along(field, rx, ry, rh, p, world, final_heading=in_h, align_h=in_h)
             left = field.cost_at(nx, ny) + math.hypot(ax - dxp, ay - dyp)
+        if tk.fault is not None and (nx, ny, nh) != (rx, ry, rh) and r not in tk.st.recruit_moved:
+            tk.st = replace(tk.st, recruit_moved=tk.st.recruit_moved + (r,))
         tk.x[r], tk.y[r], tk.h[r] = nx, ny, nh
         if left < best[i] - half_cell:
             best[i], since[i] = left, tk.t
@@ -251,7 +274,7 @@ def dock(tk: Tick) -> None:
     tk.mode[list(st.recruits)] = _MEMBER
     tk.ev("dock", st.recruits[0], index=len(members), robots=list(st.recruits))
     tk.st = replace(st, members=members, recruits=(), recruit_slots=(), recruit_best_cm=(), recruit_progress_s=(),
-                    recruit_final=(), passed_over=(), action="idle", progress_s=tk.t)
+                    recruit_final=(), recruit_moved=(), passed_over=(), action="idle", progress_s=tk.t)
 
 
 def hand_over(tk: Tick, i: int) -> bool:
@@ -260,10 +283,12 @@ def hand_over(tk: Tick, i: int) -> bool:
     st = tk.st
     r, slot = st.recruits[i], st.recruit_slots[i]
     tk.mode[r] = _EXPLORE
+    if r not in st.recruit_moved:
+        tk.detect(r, "no_motion_when_called")  # a robot that moved and got stuck is only passed over
     tk.st = st = replace(st, passed_over=st.passed_over + (r,))
     field = slot_field(st, tk.p, tk.world, slot)[0]
     pool = [int(c) for c in candidates(tk)]
-    nxt = closest([field], pool, tk.x, tk.y)
+    nxt = answering(tk, [field], pool)
     if not nxt:
         tk.ev("hand_over", r, slot=int(slot), to=-1)
         call_off(tk)
@@ -286,7 +311,7 @@ def call_off(tk: Tick) -> None:
     if st.recruits:
         tk.mode[list(st.recruits)] = _EXPLORE
     tk.st = replace(st, recruits=(), recruit_slots=(), recruit_best_cm=(), recruit_progress_s=(), recruit_final=(),
-                    action="idle" if st.action == "recruit" else st.action)
+                    recruit_moved=(), action="idle" if st.action == "recruit" else st.action)
 
 
 def open_slots(st: Structure) -> list[int]:
@@ -301,4 +326,4 @@ def open_slots(st: Structure) -> list[int]:
 
 
 __all__ = ["approach", "approach_point", "call", "call_off", "candidates", "closest", "dock", "hand_over",
-           "open_slots", "path_costs", "slot_field", "OPEN"]
+           "open_slots", "path_costs", "slot_field", "answering", "OPEN"]

@@ -19,6 +19,7 @@ import numpy as np
 
 from . import structure as S
 from . import taper as T
+from .faults import DRIVE
 from .state import OPEN, Mode
 from .tick import Tick
 
@@ -27,13 +28,46 @@ _RECRUIT, _TARGET, _RETREAT = int(Mode.RECRUIT), int(Mode.TARGET), int(Mode.RETR
 
 
 def release(tk: Tick, r: int, away: float, new_mode: int) -> None:
-    """Robot ``r`` leaves the structure in ``new_mode`` and disperses around heading ``away``."""
+    """Robot ``r`` leaves the structure in ``new_mode`` and disperses around heading ``away``
+    (a robot that cannot drive is pushed clear instead: :func:`push_clear`)."""
     tk.mode[r] = new_mode
     tk.sidx[r], tk.sline[r], tk.slayer[r], tk.sopp[r] = 0, -1, -1, -1
     u = tk.rng.random(2)
     tk.goal[r] = away + (1 if u[0] < 0.5 else -1) * (0.35 + 0.7 * u[1])
     tk.run_left[r] = 0.0
     tk.disp[r] = DISPERSE_S
+    if tk.is_failed(r, DRIVE):
+        tk.disp[r] = 0.0
+        push_clear(tk, r, away)
+
+
+def push_clear(tk: Tick, r: int, away: float) -> None:
+    """A released robot that cannot drive is pushed out of the structure's way: along ``away``
+    (the direction it leaves in: ahead onto the target ground, back onto the initial ground)
+    by one robot length, or more when a robot pushed before stands there, else sideways out of
+    the structure's lane (modelled as its new pose once the release's pause ``release_clear_s``
+    is over, not as a simulated push). It stays put, with an event, when nowhere is clear."""
+    p, world = tk.p, tk.world
+    L = p.robot_length_cm
+    st = tk.st
+    lane = (st.lines if st is not None else 1) * p.robot_width_cm
+    x0, y0 = float(tk.x[r]), float(tk.y[r])
+    ux, uy = math.cos(away), math.sin(away)
+    others = np.ones(tk.x.shape[0], dtype=bool)
+    others[r] = False
+    gap = min(L, p.robot_width_cm) - 1e-6
+    tries = [(x0 + j * L * ux, y0 + j * L * uy) for j in range(1, 5)]
+    tries += [(x0 - k * lane * uy * sgn, y0 + k * lane * ux * sgn) for k in (1, 2) for sgn in (1, -1)]
+    for cx, cy in tries:
+        if not world.pose_ok1(cx, cy, away):
+            continue
+        d2 = (tk.x[others] - cx) ** 2 + (tk.y[others] - cy) ** 2
+        if d2.size and d2.min() < gap * gap:
+            continue
+        tk.x[r], tk.y[r], tk.h[r] = cx, cy, away
+        tk.ev("pushed_clear", r, x_cm=round(cx, 6), y_cm=round(cy, 6))
+        return
+    tk.ev("not_cleared", r, x_cm=round(x0, 6), y_cm=round(y0, 6))
 
 
 def release_front(tk: Tick, g: T.ShellGeometry | None) -> None:

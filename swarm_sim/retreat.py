@@ -17,7 +17,8 @@ for one of these reasons, recorded in the ``retreat`` event's ``why``:
 
 The run's ``end_reason`` (:func:`end_reason`) is ``crossed`` (the target was found),
 ``retreated-no-robots``, ``retreated-span``, ``retreated-stalled``, ``retreated-blocked``,
-``retreated-no-room`` or ``timeout`` (the ``max_time_s`` guard; a shipped preset never
+``retreated-no-room``, ``stranded`` (faults: nothing that could still finish the task can move,
+:mod:`swarm_sim.detection`) or ``timeout`` (the ``max_time_s`` guard; a shipped preset never
 reaches it, the tests check that).
 """
 
@@ -35,7 +36,7 @@ REASONS = {
     "dock_blocked": "retreated-blocked",
     "no_room_for_the_feet": "retreated-no-room",
 }
-END_REASONS = ("crossed", *REASONS.values(), "timeout")
+END_REASONS = ("crossed", *REASONS.values(), "stranded", "timeout")
 
 _EXPLORE, _RECRUIT, _TARGET, _RETREAT = int(Mode.EXPLORE), int(Mode.RECRUIT), int(Mode.TARGET), int(Mode.RETREAT)
 
@@ -87,6 +88,8 @@ def end_reason(events, phase: int) -> str | None:
         return "crossed"
     if phase == Phase.TIMEOUT:
         return "timeout"
+    if phase == Phase.STRANDED:
+        return "stranded"
     if phase in (Phase.RETREATED, Phase.WANDER):
         why = next((d.get("why") for _t, k, _r, d in events if k == "retreat"), None)
         return REASONS.get(why, "retreated-no-robots")

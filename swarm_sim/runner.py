@@ -22,7 +22,7 @@ from .invariants import lost_robots, violations
 from .params import Params, load_preset, with_limits, with_overrides
 from .retreat import end_reason
 from .state import Phase, SwarmState, new_state
-from .step import step
+from .step import ENDED, step
 from .world import World
 
 _OVER = re.compile(r"robot (\d+) .*over the void")
@@ -65,13 +65,24 @@ class RunResult:
     end_reason: str | None = None
     #: recruits released because they made no progress, and the robot called instead (-1: none)
     hand_overs: int = 0
+    #: faults (swarm_sim.faults): the spec, and per fault {robot, t_s, mode, doing, detected_s,
+    #: how, delay_s} (detected_s/how/delay_s null while the swarm never found out)
+    faults_spec: str = ""
+    faults: list = field(default_factory=list)
+    #: failed robots built into piers (never counted as lost)
+    robots_in_piers: int = 0
 
     def to_dict(self, events: bool = False) -> dict:
         d = {k: getattr(self, k) for k in (
             "success", "retreated", "timed_out", "robots_lost", "times", "seed_robot", "seed_position",
             "target_finder", "preset", "robots", "void_width", "seed", "limits_source", "min_robots_rule",
             "record_min_robots", "robots_delivered", "robots_on_initial_side", "steps", "wall_s", "violations",
-            "levels_used", "switches", "seed_edge_cm", "end_reason", "hand_overs")}
+            "levels_used", "switches", "seed_edge_cm", "end_reason", "hand_overs", "faults_spec", "faults",
+            "robots_in_piers")}
+        d["robots_failed"] = len({f["robot"] for f in self.faults})
+        d["robots_detected"] = len({f["robot"] for f in self.faults if f["detected_s"] is not None})
+        delays = [f["delay_s"] for f in self.faults if f["delay_s"] is not None]
+        d["max_detection_delay_s"] = max(delays) if delays else None
         d["switches"] = [dict(x) for x in self.switches]
         d["assembly"] = self.construction.get("assembly")
         d["disassembly"] = self.construction.get("disassembly")
@@ -159,6 +170,38 @@ def initial_poses(p: Params, rng: np.random.Generator) -> tuple[np.ndarray, np.n
 def init_state(p: Params, rng: np.random.Generator) -> SwarmState:
     x, y, h = initial_poses(p, rng)
     return new_state(x, y, h)
+
+
+def with_faults(s: SwarmState, p: Params, seed: int) -> SwarmState:
+    """``s`` carrying the run's fault schedule when ``p.faults`` has any (drawn from the run
+    seed's own fault stream: :func:`swarm_sim.faults.draw_schedule`)."""
+    from dataclasses import replace
+
+    from .faults import draw_schedule, init_arrays, parse_faults
+
+    if p.faults:
+        spec = parse_faults(p.faults)
+        sch, flags, t_s, known = init_arrays(draw_schedule(spec, p.robots, p.max_time_s, seed), p.robots)
+        if sch is not None:
+            s = replace(s, fault_schedule=sch, fault_flags=flags, fault_t_s=t_s, fault_known=known)
+    return s
+
+
+def fault_records(events) -> list[dict]:
+    """Per fault (first fault of each robot and mode): when, what the robot was doing, and when
+    and how the swarm detected the robot's failure (from the event log)."""
+    found = {}
+    for t, kind, r, d in events:
+        if kind == "fault_detected" and r not in found:
+            found[r] = (t, d["how"], d["delay_s"])
+    out = []
+    for t, kind, r, d in events:
+        if kind == "fault":
+            det = found.get(r)
+            out.append({"robot": r, "t_s": t, "mode": d["mode"], "doing": d["doing"],
+                        "detected_s": det[0] if det else None, "how": det[1] if det else None,
+                        "delay_s": det[2] if det else None})
+    return out
 
 
 # ---------------------------------------------------------------------------- metrics
@@ -275,20 +318,21 @@ def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None
     if until not in (None, "seed"):
         raise InputError(f"until must be None or 'seed', got {until!r}")
     engine = resolve_engine(engine)
-    fast = engine == "compiled" and on_step is None and use_numba is not False
+    rng = np.random.default_rng(seed)
+    world = World.from_params(p)
+    state = with_faults(init_state(p, rng), p, int(seed))
+    # the kernel knows no faults: a run with faults is reference steps throughout (same result)
+    fast = engine == "compiled" and on_step is None and use_numba is not False and state.fault_schedule is None
     if fast:
         from .compiled import fast_forward
     ref_steps = 0
     last_ok = True
-    rng = np.random.default_rng(seed)
-    world = World.from_params(p)
-    state = init_state(p, rng)
     lost: set[int] = set()
     viol: list[str] = []
     t0 = time.perf_counter()
     if on_step is not None:
         on_step(state)
-    while state.phase not in (Phase.SUCCESS, Phase.RETREATED, Phase.TIMEOUT):
+    while state.phase not in ENDED:
         if fast and last_ok:
             state, _ = fast_forward(state, p, world, rng, check, stats=stats)
         state = step(state, p, world, rng, use_numba)
@@ -330,7 +374,8 @@ def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None
         seed_edge_cm=float(state.seed_position[1]) if state.seed_position is not None else None,
         construction=construction_times(state.events, state.phase), record_min_robots=p.record_min_robots,
         end_reason=end_reason(state.events, state.phase),
-        hand_overs=sum(1 for _t, k, _r, _d in state.events if k == "hand_over"))
+        hand_overs=sum(1 for _t, k, _r, _d in state.events if k == "hand_over"), faults_spec=p.faults,
+        faults=fault_records(state.events))
     return state, res
 
 

@@ -36,6 +36,7 @@ class Phase(IntEnum):
     SUCCESS = 4       # target found
     RETREATED = 5     # wandered after the retreat and stopped
     TIMEOUT = 6       # max_time_s reached
+    STRANDED = 7      # faults: every robot that could still finish the task has failed (swarm_sim.faults)
 
 
 #: An open slot in ``Structure.members`` (a new line/layer not yet filled after a switch).
@@ -73,6 +74,8 @@ class Structure:
     recruit_progress_s: tuple[float, ...] = ()
     #: per recruit: reached its approach point, now driving straight in
     recruit_final: tuple[bool, ...] = ()
+    #: recruits seen to move since they were called (faults: one that never moved failed)
+    recruit_moved: tuple[int, ...] = ()
     #: robots that failed to reach this dock point (handed over); cleared by the next dock
     passed_over: tuple[int, ...] = ()
     #: when the structure last docked, moved, released, switched or saw a robot come closer (s)
@@ -119,6 +122,15 @@ class SwarmState:
     seed_position: tuple[float, float] | None = None
     target_finder: int = -1
     events: tuple = field(default_factory=tuple)
+    #: faults (swarm_sim.faults; all None in a fault-free run): the run's schedule, the index of
+    #: its next fault, each robot's disabled functions (int8 DRIVE | SENSOR | TOTAL: the physics,
+    #: which no robot reads for another), the time of its first fault (s, inf: none) and what the
+    #: swarm knows: ``fault_known`` robots were detected as failed by what the others can sense
+    fault_schedule: object | None = None
+    fault_next: int = 0
+    fault_flags: np.ndarray | None = None
+    fault_t_s: np.ndarray | None = None
+    fault_known: np.ndarray | None = None
 
     @property
     def n(self) -> int:

@@ -3,6 +3,8 @@
 A step is the sequence :data:`PHASES` (dt = ``params.dt_s``), each a function of the step's
 working copy (:class:`swarm_sim.tick.Tick`):
 
+0. :func:`~swarm_sim.faults.fail`: the faults due by the end of the step happen (runs with
+   faults only; what the swarm then senses and does is :mod:`swarm_sim.detection`);
 1. :func:`detect_seed` (search phase): an initial explorer whose ground sensor sees the
    void becomes the seed (ties: the one nearest the void) and the ``void found``
    broadcast stops others from seeding;
@@ -24,6 +26,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from . import detection as DT
 from . import feet
 from . import recruitment as RC
 from . import release as RL
@@ -31,6 +34,7 @@ from . import retreat as RT
 from . import structure as S
 from . import taper as T
 from .explore import walk
+from .faults import DRIVE, SENSOR, fail
 from .params import at_level, level_params
 from .state import OPEN, WALKING_MODES, Mode, Phase, Structure, SwarmState
 from .tick import Tick
@@ -41,8 +45,9 @@ _TARGET, _STOPPED = int(Mode.TARGET), int(Mode.STOPPED)
 _P_SEARCH, _P_BUILD, _P_DELIVERED = int(Phase.SEARCH), int(Phase.BUILD), int(Phase.DELIVERED)
 _P_WANDER, _P_SUCCESS, _P_RETREATED, _P_TIMEOUT = (int(Phase.WANDER), int(Phase.SUCCESS), int(Phase.RETREATED),
                                                    int(Phase.TIMEOUT))
+_P_STRANDED = int(Phase.STRANDED)
 EPS_MOVE = 1e-9
-ENDED = (_P_SUCCESS, _P_RETREATED, _P_TIMEOUT)
+ENDED = (_P_SUCCESS, _P_RETREATED, _P_TIMEOUT, _P_STRANDED)
 WALKING_LUT = np.zeros(len(Mode), dtype=bool)
 WALKING_LUT[list(WALKING_MODES)] = True
 
@@ -53,7 +58,10 @@ def detect_seed(tk: Tick) -> None:
     if tk.phase != _P_SEARCH:
         return
     p, world = tk.p, tk.world
-    cand = np.flatnonzero(tk.mode == _EXPLORE)
+    able = tk.mode == _EXPLORE
+    if tk.fault is not None:
+        able &= tk.fault == 0  # a robot knows its own failure: a failed one never seeds
+    cand = np.flatnonzero(able)
     if not cand.size:
         return
     see = world.void_ahead(tk.x[cand], tk.y[cand], tk.h[cand])
@@ -79,6 +87,8 @@ def walk_free(tk: Tick) -> None:
     walking = WALKING_LUT[tk.mode]
     if tk.phase != _P_SEARCH and p.case in ("A", "B"):
         walking &= tk.mode != _EXPLORE  # cases A, B: free robots stop once the void is found (Ch. 4.5)
+    if tk.fault is not None:
+        walking &= ~tk.failed(DRIVE | SENSOR)  # fail-safe: a robot that cannot drive or see stops
     walkers = np.flatnonzero(walking)
     tk.x, tk.y, tk.h, tk.goal, tk.run_left = walk(tk.x, tk.y, tk.h, tk.goal, tk.run_left, walkers,
                                                   tk.disp[walkers] > 0, tk.world, p, tk.rng, tk.use_numba)
@@ -92,6 +102,8 @@ def _align(tk: Tick) -> None:
     st, p, world = tk.st, tk.p, tk.world
     dist = p.speed_cm_s * p.dt_s
     s0 = st.members[0]
+    if tk.is_failed(s0, DRIVE):
+        return  # it cannot align (swarm_sim.detection.seed_failed)
     dir_h = math.atan2(st.dir_y, st.dir_x)
     hx, hy, hh = float(tk.x[s0]), float(tk.y[s0]), float(tk.h[s0])
     d = float(wrap(np.array(dir_h - hh)))
@@ -123,13 +135,15 @@ def _slide(tk: Tick) -> None:
     """``advance`` / ``back``: the whole structure moves one length (it ignores obstacles:
     the thesis's assumption 13)."""
     st, p = tk.st, tk.p
+    if tk.fault is not None and not DT.drivers(tk):
+        return  # no member can drive: the structure stands (its watchdog decides)
     sgn = 1.0 if st.action == "advance" else -1.0
     f = st.front_s_cm + sgn * p.speed_cm_s * p.dt_s
     if (f - st.goal_s_cm) * sgn >= -EPS_MOVE:
         st = replace(st, front_s_cm=st.goal_s_cm, action="idle", progress_s=tk.t)
     else:
         st = replace(st, front_s_cm=f)
-    if not st.landed and st.front_s_cm + tk.world.detect_cm >= p.void_width_cm - 1e-6:
+    if not st.landed and st.front_s_cm + tk.world.detect_cm >= p.void_width_cm - 1e-6 and DT.front_sees(tk):
         st = replace(st, landed=True)
         tk.ev("far_ledge", st.members[0], front_s_cm=round(st.front_s_cm, 6))
     tk.st = st
@@ -227,6 +241,8 @@ def decide(tk: Tick) -> None:
     st, p = tk.st, tk.p
     if st is None or tk.phase != _P_BUILD or st.action != "idle":
         return
+    if tk.fault is not None and not DT.can_decide(tk):
+        return  # every member is silent (swarm_sim.detection.watch ends it)
     free = RC.candidates(tk)
     slot_ids = RC.open_slots(st)
     enough = free.size >= 1 if S.filling(st) else free.size >= len(slot_ids)
@@ -296,6 +312,9 @@ def watch(tk: Tick, before: Structure | None = None) -> None:
         if tk.st.action in ("advance", "back", "wait"):
             tk.st = replace(tk.st, action="idle")
         RT.start_retreat(tk, "stalled")
+    DT.watch(tk)
+    if tk.st is None or tk.phase != _P_BUILD:
+        return
     RT.dissolved(tk)
     if tk.st is not None and tk.st.action != "align" and tk.st is not before:
         _place_members(tk)
@@ -306,7 +325,10 @@ def watch(tk: Tick, before: Structure | None = None) -> None:
 def finish(tk: Tick) -> None:
     p, world, t = tk.p, tk.world, tk.t
     if tk.phase in (_P_BUILD, _P_DELIVERED) and tk.target_finder < 0:
-        tg = np.flatnonzero(tk.mode == _TARGET)
+        seeing = tk.mode == _TARGET
+        if tk.fault is not None:
+            seeing &= ~tk.failed(SENSOR)  # a blind robot cannot see the target
+        tg = np.flatnonzero(seeing)
         if tg.size:
             d2 = (tk.x[tg] - world.target_x_cm) ** 2 + (tk.y[tg] - world.target_y_cm) ** 2
             hit = d2 <= world.target_found_cm ** 2
@@ -323,13 +345,18 @@ def finish(tk: Tick) -> None:
         tk.phase, tk.phase_since = _P_RETREATED, t
         tk.mode[:] = _STOPPED
         tk.ev("stopped")
+    if tk.fault is not None and tk.target_finder < 0:
+        if tk.phase == _P_SEARCH and not DT.search_possible(tk):
+            DT.strand(tk, "no robot left that can find the void")
+        elif tk.phase == _P_DELIVERED and not DT.target_search_possible(tk):
+            DT.strand(tk, "no robot left on the target side that can find the target")
     if tk.phase not in ENDED and t >= p.max_time_s - 1e-9:
         tk.phase, tk.phase_since = _P_TIMEOUT, t
         tk.ev("timeout")
 
 
 #: the step, in order
-PHASES = (detect_seed, walk_free, move_structure, decide, watch, finish)
+PHASES = (fail, detect_seed, walk_free, move_structure, decide, watch, finish)
 
 
 def step(state: SwarmState, p, world, rng: np.random.Generator, use_numba: bool | None = None) -> SwarmState:

@@ -38,6 +38,12 @@ class Tick:
     seed_pos: tuple | None
     target_finder: int
     events: list = field(default_factory=list)
+    #: faults (see :class:`~swarm_sim.state.SwarmState`): copies changed in place, None without faults
+    fault_schedule: object | None = None
+    fault_next: int = 0
+    fault: np.ndarray | None = None
+    fault_t: np.ndarray | None = None
+    known: np.ndarray | None = None
 
     @classmethod
     def of(cls, s: SwarmState, p: Params, world: World, rng: np.random.Generator,
@@ -47,7 +53,10 @@ class Tick:
                    s.struct_line.copy(), s.struct_layer.copy(),
                    s.struct_opposite.copy() if s.struct_opposite is not None else np.full(s.n, -1, dtype=np.int8),
                    s.disperse_left_s.copy(), s.structure, s.phase, s.phase_since_s, s.seed_robot,
-                   s.seed_position, s.target_finder)
+                   s.seed_position, s.target_finder, [], s.fault_schedule, s.fault_next,
+                   None if s.fault_flags is None else s.fault_flags.copy(),
+                   None if s.fault_t_s is None else s.fault_t_s.copy(),
+                   None if s.fault_known is None else s.fault_known.copy())
 
     def ev(self, kind: str, robot: int = -1, **data) -> None:
         """Record an event at this step's time."""
@@ -67,4 +76,23 @@ class Tick:
                           step=prev.step + 1, phase=int(self.phase), phase_since_s=self.phase_since,
                           structure=self.st, seed_robot=self.seed_robot, seed_position=self.seed_pos,
                           target_finder=self.target_finder,
-                          events=prev.events + tuple(self.events) if self.events else prev.events)
+                          events=prev.events + tuple(self.events) if self.events else prev.events,
+                          fault_schedule=self.fault_schedule, fault_next=self.fault_next, fault_flags=self.fault,
+                          fault_t_s=self.fault_t, fault_known=self.known)
+
+    # ------------------------------------------------------------------ faults (swarm_sim.faults)
+    def failed(self, bits: int) -> np.ndarray:
+        """Per robot: has it lost any of the functions ``bits`` (the physics, not knowledge)?"""
+        if self.fault is None:
+            return np.zeros(self.x.shape[0], dtype=bool)
+        return (self.fault & bits) != 0
+
+    def is_failed(self, r: int, bits: int) -> bool:
+        return self.fault is not None and bool(self.fault[r] & bits)
+
+    def detect(self, r: int, how: str) -> None:
+        """The swarm learns that robot ``r`` failed (``how``: what it sensed); recorded once."""
+        if self.known is None or self.known[r]:
+            return
+        self.known[r] = True
+        self.ev("fault_detected", r, how=how, delay_s=round(self.t - float(self.fault_t[r]), 6))

@@ -92,6 +92,11 @@ def run(args: argparse.Namespace) -> int:
     if not (math.isfinite(args.frame_every) and args.frame_every > 0):
         raise InputError(f"--frame-every {args.frame_every}: must be a positive number of simulated seconds")
     overrides = parse_set(args.set)
+    if args.faults is not None:
+        from swarm_sim.faults import parse_faults
+
+        spec = parse_faults(args.faults)
+        overrides["faults"] = "" if spec.empty else spec.describe()
     from swarm_sim.params import load_preset
 
     base = load_preset(args.preset)
@@ -147,6 +152,7 @@ def run(args: argparse.Namespace) -> int:
            "retreated-no-room": "no room for the tapering arch's feet"}.get(res.end_reason or "", "")
     outcome = "SUCCESS: crossed and found the target" if res.success else (
         f"RETREATED ({res.end_reason}): {why}; all back on the initial side" if res.retreated
+        else "STRANDED: every robot that could still finish the task has failed" if res.end_reason == "stranded"
         else "TIMEOUT: still running at --max-time")
     fmt = lambda v: "-" if v is None else f"{v:.2f}"  # noqa: E731
     human = (f"{p.preset} N={p.robots} void={p.void_width} widths seed={args.seed} limits={p.limits_source} "
@@ -159,6 +165,19 @@ def run(args: argparse.Namespace) -> int:
              f"Tb {fmt(t['Tb'])}  Tt {fmt(t['Tt'])} s (simulated; {res.steps} steps in {res.wall_s:.1f} s)\n"
              f"assembly {fmt(res.construction.get('assembly'))} s, disassembly "
              f"{fmt(res.construction.get('disassembly'))} s; structures {' -> '.join(res.levels_used) or '-'}")
+    if res.faults_spec:
+        fl = res.faults
+        human += (f"\nfaults {res.faults_spec}: {payload['robots_failed']} robots failed, "
+                  f"{payload['robots_detected']} detected by the swarm"
+                  + (f" (longest delay {payload['max_detection_delay_s']:.1f} s)"
+                     if payload['max_detection_delay_s'] is not None else "")
+                  + (f"; {res.robots_in_piers} built into piers" if res.robots_in_piers else ""))
+        for f in fl[:12]:
+            det = (f"detected at {f['detected_s']:.1f} s ({f['how']}, after {f['delay_s']:.1f} s)"
+                   if f["detected_s"] is not None else "never detected")
+            human += f"\n  robot {f['robot']}: {f['mode']} failure at {f['t_s']:.1f} s while {f['doing']}; {det}"
+        if len(fl) > 12:
+            human += f"\n  ... {len(fl) - 12} more (--json)"
     for sw in res.switches:
         human += (f"\n  switch to {sw['level']} ({sw['lines']} x {sw['layers']} per row) at t={sw['t_s']:.2f} s, "
                   f"n_g={sw['n_g']}, {sw['rows']} rows")
@@ -278,6 +297,9 @@ def register(sub, common) -> None:
     r.add_argument("--max-time-s", "--max-time", dest="max_time", type=float, default=None,
                    help="simulated-time cap in s (default: the preset's guard)")
     r.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a preset value, e.g. arena_w_cm=800")
+    r.add_argument("--faults", default=None, metavar="SPEC",
+                   help="robots that fail: rates per robot (drive:0.5/h,sensor:0.2/h,total:0.1/h; also /min, /s) "
+                        "and/or a schedule ROBOT@T_S:MODE (3@120:drive); 'none' for none (default: the preset's)")
     r.add_argument("--video", help="write a .mp4 or .gif of the run (under --out)")
     r.add_argument("--snapshots", metavar="DIR", help="write PNG snapshots into DIR (under --out)")
     r.add_argument("--frame-every", type=float, default=0.5, help="simulated s between video frames (default 0.5)")
