@@ -17,10 +17,10 @@ import math
 from dataclasses import replace
 
 from . import taper as T
+from .faults import DRIVE
 from .motion import drive_along
 from .navigation import cost_field, nav_grid
 from .params import level_params
-from .faults import DRIVE
 from .recruitment import answering, candidates
 from .release import release
 from .retreat import start_retreat
