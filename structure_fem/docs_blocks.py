@@ -3,8 +3,9 @@
 ``python -m structure_fem.docs_blocks docs/structure_fem.md`` rewrites every block between
 ``<!-- BEGIN generated NAME -->`` and ``<!-- END generated NAME -->`` (:data:`BLOCKS`):
 the derived thresholds beside the thesis's (from the packaged ``limits.json``, itself checked
-against a fresh derivation by the tests), the CuBot connector values of the packaged robot
-record, and the platform-bolt calibration family (computed, ~1 s). ``--check`` reports a
+against a fresh derivation by the tests), the pier (multi-span) rule of that record, the CuBot
+connector values of the packaged robot record, and the platform-bolt calibration family
+(computed, ~1 s). ``--check`` reports a
 stale file (exit 1); the tests run it, so the page cannot drift from the code.
 """
 
@@ -82,7 +83,30 @@ def _calibration() -> str:
             f"{cal['fitted_over_estimate']:.3g} times that.\n")
 
 
-BLOCKS = {"thresholds": _thresholds, "connectors": _connectors, "calibration": _calibration}
+def _piers() -> str:
+    from structure_fem.limits import load_limits
+
+    d = load_limits("derived")
+    r = d.piers
+    if r is None:
+        return "The packaged `limits.json` has no pier rule (`voidcross fem table --piers none`).\n"
+    rows = ["| robots in the pier (k) | pier stiffness (N/m) | overhang beyond one pier | beyond a second pier | "
+            "widest void, one pier | x the line's threshold |", "|---|---|---|---|---|---|"]
+    for k in range(1, r.max_pier_robots + 1):
+        v = r.max_void_for(k)
+        rows.append(f"| {k} | {r.pier_stiffness_n_per_m[k - 1]:.4g} | {r.overhang_for(k)} | "
+                    f"{r.overhang_for(k, second=True)} | {v} | {v / r.first_span_widths:.3g} |")
+    two = [r.first_span_widths + r.pier_width_widths + r.overhang_for(k) + r.pier_width_widths
+           + r.overhang_for(k, second=True) for k in range(1, r.max_pier_robots + 1)]
+    return (f"From the packaged `limits.json` (`{d.robot}`, {d.clearance_mm:g} mm clearance): structure "
+            f"`{r.structure}`, first span {r.first_span_widths} (its own threshold), pier {r.pier_width_widths} "
+            f"robot wide; beyond the last support rows behind its far face >= {r.ground_ratio:g} x rows beyond + "
+            f"{r.ground_margin}; largest tip over the checked states {r.max_deflection_mm:.2f} mm, smallest tipping "
+            f"factor {r.min_tipping_factor:.2f}. With two piers the widest void is {two} robot widths.\n\n"
+            + "\n".join(rows) + f"\n\nThe rule's notes: {r.notes}\n")
+
+
+BLOCKS = {"thresholds": _thresholds, "connectors": _connectors, "calibration": _calibration, "piers": _piers}
 
 
 def render(text: str) -> str:

@@ -117,8 +117,100 @@ class StructureLevel:
 
 
 @dataclass(frozen=True)
+class PierRule:
+    """Crossing a void over intermediate supports: piers of failed robots stacked with the
+    top-down coupling, standing on the void floor with their top at the ledge height
+    (derived by :mod:`structure_fem.piers`; the thesis has no such rule).
+
+    The structure ``structure`` (a level name of the record) advances as a cantilever from the
+    near ledge to ``first_span_widths`` (that level's own threshold, its own counting rule), a
+    pier ``pier_width_widths`` robot lengths wide is built just beyond its front (its near face
+    at ``first_span_widths`` from the near edge), the structure rolls onto it and continues as a
+    continuous beam; beyond the pier's far face it may overhang ``overhang_widths[k - 1]`` rows
+    for a pier of ``k`` robots (0: no overhang is safe), then it reaches the far ledge (widest
+    void crossed with one pier: ``max_void_widths[k - 1] = first_span + pier_width + overhang``).
+    A second pier at the first overhang's limit allows ``overhang_widths_two_piers[k - 1]``
+    beyond it. While something overhangs the last support, every advance must keep
+    ``rows behind the last support's far face >= ground_ratio * rows beyond it + ground_margin``.
+    ``pier_stiffness_n_per_m[k - 1]``: the vertical stiffness of a pier of ``k`` robots;
+    ``max_deflection_mm`` / ``min_tipping_factor``: the largest tip and the smallest tipping
+    factor (about the last support) over every state of the crossings checked at these counts.
+    """
+
+    structure: str
+    first_span_widths: int
+    pier_width_widths: int
+    overhang_widths: tuple[int, ...]
+    overhang_widths_two_piers: tuple[int, ...]
+    ground_ratio: float
+    ground_margin: int
+    max_void_widths: tuple[int, ...]
+    pier_stiffness_n_per_m: tuple[float, ...]
+    max_deflection_mm: float
+    min_tipping_factor: float
+    notes: str = ""
+    #: the pier's stack geometry, copied from the robot properties record (cubot_cad.pier;
+    #: None when the record has none): floor to the top cover of one robot standing on its
+    #: wheels, top cover to top cover of stacked robots, and the printed deck the line rolls
+    #: over on the top robot (cubot_cad.deck). The simulator turns a void's depth into robots
+    #: per pier with them (swarm_sim.piers.robots_per_pier).
+    standing_height_m: float | None = None
+    stack_pitch_m: float | None = None
+    deck_height_m: float | None = None
+
+    def __post_init__(self) -> None:
+        _req(self.first_span_widths >= 1, f"piers: first_span_widths must be >= 1, got {self.first_span_widths}")
+        _req(self.pier_width_widths >= 1, f"piers: pier_width_widths must be >= 1, got {self.pier_width_widths}")
+        n = len(self.overhang_widths)
+        _req(n >= 1, "piers: overhang_widths lists no pier height")
+        for name in ("overhang_widths_two_piers", "max_void_widths", "pier_stiffness_n_per_m"):
+            _req(len(getattr(self, name)) == n,
+                 f"piers: {name} has {len(getattr(self, name))} entries for {n} pier heights")
+        _req(all(isinstance(o, int) and o >= 0 for o in self.overhang_widths + self.overhang_widths_two_piers),
+             f"piers: overhangs must be integers >= 0, got {self.overhang_widths} / {self.overhang_widths_two_piers}")
+        want = tuple(self.first_span_widths + self.pier_width_widths + o for o in self.overhang_widths)
+        _req(self.max_void_widths == want,
+             f"piers: max_void_widths {self.max_void_widths} is not first span + pier width + overhang {want}")
+        _req(all(math.isfinite(k) and k > 0 for k in self.pier_stiffness_n_per_m),
+             f"piers: pier stiffness must be > 0, got {self.pier_stiffness_n_per_m}")
+        _req(math.isfinite(self.ground_ratio) and self.ground_ratio > 0,
+             f"piers: ground_ratio must be > 0, got {self.ground_ratio}")
+        _req(self.ground_margin >= 0, f"piers: ground_margin must be >= 0, got {self.ground_margin}")
+        for name in ("max_deflection_mm", "min_tipping_factor"):
+            _req(math.isfinite(getattr(self, name)), f"piers: {name} is not finite ({getattr(self, name)})")
+
+    @property
+    def max_pier_robots(self) -> int:
+        """The tallest pier the rule covers (robots stacked)."""
+        return len(self.overhang_widths)
+
+    def _k(self, robots: int) -> int:
+        _req(isinstance(robots, int) and 1 <= robots <= self.max_pier_robots,
+             f"a pier of {robots!r} robots is outside the rule's 1..{self.max_pier_robots}")
+        return robots - 1
+
+    def overhang_for(self, robots: int, second: bool = False) -> int:
+        """Rows that may overhang the far face of a pier of ``robots`` robots (``second``: of
+        the second pier)."""
+        return (self.overhang_widths_two_piers if second else self.overhang_widths)[self._k(robots)]
+
+    def max_void_for(self, robots: int) -> int:
+        """The widest void (robot widths) crossed over one pier of ``robots`` robots."""
+        return self.max_void_widths[self._k(robots)]
+
+    def min_rows_behind(self, rows_beyond: int) -> int:
+        """Fewest rows behind the last support's far face with ``rows_beyond`` rows past it."""
+        _req(isinstance(rows_beyond, int) and rows_beyond >= 0, f"rows beyond must be >= 0, got {rows_beyond!r}")
+        return math.ceil(self.ground_ratio * rows_beyond - 1e-9) + self.ground_margin
+
+
+@dataclass(frozen=True)
 class StructureLimits:
-    """Which structure spans which void, and the counting rules, for one robot model."""
+    """Which structure spans which void, and the counting rules, for one robot model.
+
+    ``piers`` (optional, :class:`PierRule`): the multi-span rule over piers of failed robots;
+    ``None`` when it was not derived (and in records written before it existed).
+    """
 
     source: str
     robot: str
@@ -129,6 +221,8 @@ class StructureLimits:
     inputs: dict[str, float] = field(default_factory=dict)
     #: Where each input comes from (per connector: "hand formula: ...", "fe: ...", "measured: ...").
     input_provenance: dict[str, str] = field(default_factory=dict)
+    #: Crossing over piers (``None``: not derived; the thesis has no pier rule).
+    piers: PierRule | None = None
     schema_version: int = SCHEMA_VERSION
 
     def __post_init__(self) -> None:
@@ -145,6 +239,13 @@ class StructureLimits:
             expected = lvl.max_span_widths + 1
         names = [lvl.name for lvl in self.levels]
         _req(len(set(names)) == len(names), f"duplicate structure names {names}")
+        if self.piers is not None:
+            _req(self.piers.structure in names,
+                 f"piers: structure {self.piers.structure!r} is not a level of these limits ({', '.join(names)})")
+            lvl = self.levels[names.index(self.piers.structure)]
+            _req(self.piers.first_span_widths == lvl.max_span_widths,
+                 f"piers: first_span_widths {self.piers.first_span_widths} is not {lvl.name!r}'s own threshold "
+                 f"{lvl.max_span_widths}")
 
     @property
     def max_span_widths(self) -> int:
@@ -268,6 +369,9 @@ def thesis_limits(robot: str = "cubot") -> StructureLimits:
 
     Case A's stricter rule (n_p, n_o >= n_g + 1, N = 3 n_g + 2) is a scenario
     margin applied by the simulator on top of these.
+
+    ``piers`` is ``None``: the thesis names failed robots as piers only as future work
+    (Ch. 7.2) and gives no rule for them, so this preset has none.
     """
     levels = [
         StructureLevel("line", "line", 1, 1, 1, 5, 2.0, 0, tuple(3 * w for w in range(1, 6))),

@@ -20,6 +20,13 @@
 * each ledge support is a one-sided spring ``f_z = k_c min(dz, 0)``, smoothed
   over ``CONTACT_SMOOTHING_M``, under a bottom corner (Python user function); one bilateral horizontal spring at
   the rearmost support fixes the rigid-body x drift (gravity has no x part);
+* a pier (:class:`structure_fem.structures.Pier`, ``Config.piers``) is a point node at the
+  centre of its top (``NodePoint2D`` + ``ObjectMassPoint2D``, no gravity on it: the pier's own
+  weight goes to the floor) held to the ground by a bilateral spring of the pier's vertical
+  stiffness (the column is elastic both ways); the structure rests on that node through the
+  same one-sided contact springs as on a ledge, so the pier can only push up. The top does not
+  tilt (one node, no rotation) and its horizontal spring only fixes the node (the contacts are
+  frictionless: no horizontal force reaches the pier);
 * gravity is ramped over load steps by the static solver; the solver
   settings are the ones the toolchain notes found to matter. While the load is
   small every joint slides through its play, where its tangent stiffness is only
@@ -51,7 +58,7 @@ from cubot_cad.properties import RobotProperties
 
 from .connectors import SMOOTHING, ConnectorSet, band_force, dead_band_moment
 from .errors import InputError, SolverFailure
-from .structures import GRAVITY, Layout, Structure, layout, tipping_factor
+from .structures import GRAVITY, Layout, Pier, Structure, layout, tipping_factor
 
 #: Ledge contact stiffness per support point (N/m): stiff against the couplings, not ill-conditioned.
 CONTACT_N_PER_M = 2.0e6
@@ -71,11 +78,17 @@ class Config:
     phase: str = "cantilever"
     #: Supports hold in both directions (a clamped root, as in a bench test), not one-sided.
     clamped: bool = False
+    #: Intermediate supports (:class:`~structure_fem.structures.Pier`), in order from the near edge.
+    piers: tuple[Pier, ...] = ()
 
     def describe(self, robot: str = "") -> str:
         who = f"{robot} " if robot else ""
+        on = ""
+        if self.piers:
+            on = ", piers at " + ", ".join(f"{p.at_widths:g}" + (f" ({p.robots} robots)" if p.robots else "")
+                                           for p in self.piers)
         return (f"{who}{self.structure.name} {self.rows} rows, {self.rows_over:g} over a "
-                f"{self.void_widths:g}-wide void ({self.phase})")
+                f"{self.void_widths:g}-wide void ({self.phase}{on})")
 
 
 @dataclass(frozen=True)
@@ -109,7 +122,10 @@ class StaticResult:
     bottom corner dropped (positive down); ``joint_rotation_rad``: relative
     rotation of each front-rear coupling (front minus rear); ``reactions_n``:
     vertical force at each support; ``tipping_factor``: restoring / overturning
-    gravity moment about the near edge (inf when nothing overhangs).
+    gravity moment about the near edge (inf when nothing overhangs), or, when the
+    structure rests on a pier, about the front-most support point (the last pier's far
+    face the structure rests on); ``pier_compression_m``: how far each pier's top
+    went down (positive: compressed).
     """
 
     config: Config
@@ -123,10 +139,25 @@ class StaticResult:
     reactions_n: np.ndarray
     tipping_factor: float
     robots: int
+    pier_compression_m: tuple[float, ...] = ()
 
     @property
     def tip_deflection_mm(self) -> float:
         return 1e3 * self.tip_deflection_m
+
+    @property
+    def pier_loads_n(self) -> tuple[float, ...]:
+        """The vertical force each pier carries (the sum of its contacts' reactions)."""
+        out = [0.0] * len(self.layout.piers)
+        for f, sp in zip(self.reactions_n, self.layout.supports, strict=True):
+            if sp.pier is not None:
+                out[sp.pier] += float(f)
+        return tuple(out)
+
+    @property
+    def tipping_edge_m(self) -> float:
+        """x of the edge the tipping factor is taken about (0: the near edge)."""
+        return tipping_edge(self.layout)
 
     @property
     def total_weight_n(self) -> float:
@@ -289,14 +320,18 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
         MarkerBodyMass,
         MarkerBodyPosition,
         MarkerNodeCoordinate,
+        MarkerNodePosition,
+        NodePoint2D,
         NodeRigidBody2D,
         ObjectConnectorCartesianSpringDamper,
         ObjectConnectorCoordinateSpringDamper,
         ObjectGround,
+        ObjectMassPoint2D,
         ObjectRigidBody2D,
     )
 
-    lay = layout(config.structure, robot, conn, config.rows, config.rows_over, config.void_widths, config.phase)
+    lay = layout(config.structure, robot, conn, config.rows, config.rows_over, config.void_widths, config.phase,
+                 config.piers)
     exu.config.printToConsole = False
     SC = exu.SystemContainer()
     mbs = SC.AddSystem()
@@ -356,15 +391,38 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
         z = u[1]
         return [k[0] * u[0], 0.5 * k[1] * (z - math.sqrt(z * z + eps * eps)), 0.0]
 
+    # Piers: a node at the centre of each pier's top on a bilateral spring of the pier's stiffness
+    # (added after every body's node: the first 3 n coordinates stay the bodies').
+    pier_markers, pier_x = [], []
+    for k in range(len(lay.piers)):
+        p = lay.piers[k]
+        x0, x1 = lay.pier_range_m(k)
+        xc = 0.5 * (x0 + x1)
+        pn = mbs.AddNode(NodePoint2D(referenceCoordinates=[xc, 0.0], initialCoordinates=[0.0, 0.0]))
+        # no load on it: the pier's own weight goes to the floor; the mass only enters the stabiliser
+        mbs.AddObject(ObjectMassPoint2D(mass=max(p.mass_kg, 1e-3), nodeNumber=pn))
+        mp = mbs.AddMarker(MarkerNodePosition(nodeNumber=pn))
+        mg = mbs.AddMarker(MarkerBodyPosition(bodyNumber=ground, localPosition=[xc, 0.0, 0.0]))
+        kp = p.stiffness_n_per_m
+        mbs.AddObject(ObjectConnectorCartesianSpringDamper(markerNumbers=[mg, mp], stiffness=[kp, kp, 0.0],
+                                                           damping=[0.0, 0.0, 0.0]))
+        pier_markers.append(mp)
+        pier_x.append(xc)
+
     rearmost = min(range(len(lay.supports)), key=lambda i: lay.supports[i].point_m[0]) if lay.supports else -1
     for i, s in enumerate(lay.supports):
-        mg = mbs.AddMarker(MarkerBodyPosition(bodyNumber=ground, localPosition=[s.point_m[0], s.point_m[1], 0.0]))
+        if s.pier is None:
+            mg = mbs.AddMarker(MarkerBodyPosition(bodyNumber=ground, localPosition=[s.point_m[0], s.point_m[1], 0.0]))
+            offset = [0.0, 0.0, 0.0]
+        else:  # the contact is measured from the pier's (moving) top
+            mg = pier_markers[s.pier]
+            offset = [s.point_m[0] - pier_x[s.pier], s.point_m[1], 0.0]
         mbd = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[s.body], localPosition=local(s.body, s.point_m)))
         kz = kc * lay.bodies[s.body].count  # contact stiffness per robot standing on the ledge
         kx = kz if (i == rearmost or config.clamped) else 0.0
         extra = {} if config.clamped else {"springForceUserFunction": contact}
         mbs.AddObject(ObjectConnectorCartesianSpringDamper(markerNumbers=[mg, mbd], stiffness=[kx, kz, 0.0],
-                                                           damping=[0.0, 0.0, 0.0], **extra))
+                                                           damping=[0.0, 0.0, 0.0], offset=offset, **extra))
     mbs.Assemble()
 
     ss = exu.SimulationSettings()
@@ -391,15 +449,24 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
     q = np.asarray(mbs.systemData.GetODE2Coordinates(), dtype=float)
     if ok is False or not np.all(np.isfinite(q)):
         raise SolverFailure(f"static solve did not converge for {what}")
-    turn = float(np.max(np.abs(q.reshape(-1, 3)[:, 2]))) if q.size else 0.0
+    nb = 3 * len(lay.bodies)
+    turn = float(np.max(np.abs(q[:nb].reshape(-1, 3)[:, 2]))) if nb else 0.0
     if turn > MAX_BODY_ROTATION_RAD:
         raise SolverFailure(f"static solve for {what} reached a spurious state (a body turned {turn:.3g} rad)")
     return _result(config, lay, q, robot, kc)
 
 
+def tipping_edge(lay: Layout) -> float:
+    """The edge the tipping factor is taken about: the near edge (x = 0), or, when the structure
+    rests on a pier, the front-most pier contact (the far face of the last pier it is on)."""
+    on = [sp.point_m[0] for sp in lay.supports if sp.pier is not None]
+    return max(on) if on else 0.0
+
+
 def _result(config: Config, lay: Layout, q: np.ndarray, robot: RobotProperties, kc: float) -> StaticResult:
     n = len(lay.bodies)
-    q = q.reshape(n, 3)
+    qp = q[3 * n:].reshape(-1, 2)  # pier tops (x, z)
+    q = q[:3 * n].reshape(n, 3)
     ref = np.array([b.com_m for b in lay.bodies])
     com = ref + q[:, :2]
     phi = q[:, 2]
@@ -421,12 +488,12 @@ def _result(config: Config, lay: Layout, q: np.ndarray, robot: RobotProperties, 
         lz = sp.point_m[1] - b.com_m[1]
         i = sp.body
         z = com[i, 1] + s[i] * lx + c[i] * lz
-        dz = z - sp.point_m[1]
+        dz = z - sp.point_m[1] - (qp[sp.pier, 1] if sp.pier is not None else 0.0)
         e = CONTACT_SMOOTHING_M
         reac.append(-kc * b.count * (dz if config.clamped else 0.5 * (dz - math.sqrt(dz * dz + e * e))))
-    tf = tipping_factor(lay.bodies, com[:, 0]) if config.phase == "cantilever" else math.inf
+    tf = tipping_factor(lay.bodies, com[:, 0], tipping_edge(lay)) if config.phase == "cantilever" else math.inf
     result = StaticResult(config, lay, com, phi, under, tip, float(drop.max()), jr, np.array(reac), tf,
-                          sum(b.count for b in lay.bodies))
+                          sum(b.count for b in lay.bodies), tuple(float(-z) for z in qp[:, 1]))
     if not (math.isfinite(result.tip_deflection_m) and np.all(np.isfinite(under))):
         raise InputError(f"non-finite result for {config.describe(robot.name)}")
     return result

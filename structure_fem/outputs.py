@@ -209,3 +209,32 @@ def summary(d: Derivation, limits: StructureLimits | None, calibration: dict, fi
     if rows is not None:
         out["table"] = [{k: v for k, v in asdict(r).items()} for r in rows]
     return out
+
+
+def piers_markdown(piers, why: str = "") -> str:
+    """The section "Piers (multi-span)" of the table's Markdown from a
+    :class:`structure_fem.piers.PierDerivation` (or why there is none)."""
+    head = "## Piers (multi-span)\n\n"
+    if piers is None:
+        return "\n" + head + f"Pier rule {why}.\n"
+    r = piers.rule
+    rows = ["| robots in the pier | pier stiffness (N/m) | overhang beyond one pier | beyond a second pier | "
+            "widest void, one pier | x the first span | tip at the overhang (mm) | tipping at it |",
+            "|---|---|---|---|---|---|---|---|"]
+    for c in piers.crossings:
+        o = c.overhang
+        tip = f"{c.one.tip_mm[o - 1]:.2f}" if o >= 1 else "-"
+        tf = f"{c.one.tipping[o - 1]:.2f}" if o >= 1 else "-"
+        v = r.max_void_for(c.robots)
+        rows.append(f"| {c.robots} | {c.stiffness.n_per_m:.4g} | {o} | {c.overhang_two} | {v} | "
+                    f"{v / r.first_span_widths:.3g} | {tip} | {tf} |")
+    bad = [f"k={c.robots}: {st.what}" for c in piers.crossings for st in c.states_one + c.states_two
+           if not st.passes]
+    checked = sum(len(c.states_one) + len(c.states_two) for c in piers.crossings)
+    return ("\n" + head
+            + f"Structure `{r.structure}`, first span {r.first_span_widths} (its own threshold), pier "
+            f"{r.pier_width_widths} robot wide. Counting rule beyond the last support: rows behind its far face >= "
+            f"{r.ground_ratio:g} x rows beyond + {r.ground_margin}. {checked} states of the crossings checked at "
+            f"these counts" + (f"; failing: {'; '.join(bad)}" if bad else ", all standing within the clearance")
+            + f" (largest tip {r.max_deflection_mm:.2f} mm, smallest tipping factor {r.min_tipping_factor:.2f}).\n\n"
+            + "\n".join(rows) + "\n\n" + f"Notes: {r.notes}\n")

@@ -105,13 +105,26 @@ def side_view(res: StaticResult, path: str | Path, height_m: float, exaggerate: 
                 color="tab:orange" if b.parity else "tab:blue", ec="k", lw=0.5)
     xmin = min(b.x_m for b in lay.bodies) - lay.length_m
     xmax = max(lay.void_m, max(b.x_m for b in lay.bodies)) + lay.length_m
-    ax.fill_between([xmin, 0], -0.05, 0, color="0.6")
-    ax.fill_between([lay.void_m, xmax], -0.05, 0, color="0.6")
+    depth = 0.05
+    for k, pier in enumerate(lay.piers):  # columns of stacked robots (their top drawn where it went down)
+        x0, x1 = lay.pier_range_m(k)
+        h = pier.robots * height_m if pier.robots else depth
+        depth = max(depth, h)
+        top = -exaggerate * (res.pier_compression_m[k] if k < len(res.pier_compression_m) else 0.0)
+        for j in range(max(pier.robots, 1)):
+            z1 = top - j * (h / max(pier.robots, 1))
+            z0 = z1 - h / max(pier.robots, 1)
+            ax.fill([x0, x1, x1, x0], [z0, z0, z1, z1], color="tab:red", alpha=0.45, ec="k", lw=0.5)
+        ax.text(0.5 * (x0 + x1), top - 0.5 * h, f"pier {k + 1}\n{pier.robots} robots" if pier.robots
+                else f"pier {k + 1}", ha="center", va="center", fontsize=7)
+    ax.fill_between([xmin, 0], -depth, 0, color="0.6")
+    ax.fill_between([lay.void_m, xmax], -depth, 0, color="0.6")
     ax.set_aspect("equal")
     cfg = res.config
-    ax.set_title(f"{cfg.structure.name}, {cfg.rows} rows, {cfg.rows_over:g} over a {cfg.void_widths:g}-wide void: "
-                 f"tip {res.tip_deflection_mm:.1f} mm (drawn x{exaggerate:.3g}), tipping {res.tipping_factor:.2f}",
-                 fontsize=9)
+    piers = f", piers at {', '.join(f'{q.at_widths:g}' for q in lay.piers)}" if lay.piers else ""
+    ax.set_title(f"{cfg.structure.name}, {cfg.rows} rows, {cfg.rows_over:g} over a {cfg.void_widths:g}-wide void"
+                 f"{piers}: tip {res.tip_deflection_mm:.1f} mm (drawn x{exaggerate:.3g}), tipping "
+                 f"{res.tipping_factor:.2f}", fontsize=9)
     ax.set_xlabel("x (m), near edge at 0")
     ax.set_ylabel("z (m)")
     fig.tight_layout()

@@ -43,6 +43,8 @@ from .study import (
 #: :mod:`structure_fem.connector_sources`), the record's hand formula elsewhere; ``properties``:
 #: the record's hand formulas only; ``calibrated``: those scaled by the platform bolt fit.
 CONNECTOR_SOURCES = ("fe", "properties", "calibrated")
+#: ``auto``: derive the pier rule (:mod:`structure_fem.piers`) into limits.json; ``none``: leave it out.
+PIER_CHOICES = ("auto", "none")
 Progress = Callable[[Iterable, str, int], Iterable]
 
 
@@ -64,10 +66,14 @@ class RunOptions:
     flexible: bool = False
     calibration_backlash: float | None = None
     max_width: int = 30
+    #: Derive the pier (multi-span) rule into the limits (``auto``) or not (``none``).
+    piers: str = "auto"
 
     def __post_init__(self) -> None:
         if self.connectors not in CONNECTOR_SOURCES:
             raise InputError(f"--connectors {self.connectors!r} is not one of {', '.join(CONNECTOR_SOURCES)}")
+        if self.piers not in PIER_CHOICES:
+            raise InputError(f"--piers {self.piers!r} is not one of {', '.join(PIER_CHOICES)}")
 
 
 def load_file(opts: RunOptions) -> RobotPropertiesFile:
@@ -124,6 +130,31 @@ def _alt_thresholds(inp: StudyInputs, info: dict, opts: RunOptions) -> list[tupl
     return [(f"{alt_opts.connectors} connectors alternative", f) for f in alt.failures]
 
 
+def pier_derivation(inp: StudyInputs, limits: StructureLimits | None, opts: RunOptions):
+    """The pier derivation (:func:`structure_fem.piers.derive`) for the limits' line level, or
+    ``(None, why)`` when there is none to derive (``--piers none``, no limits, no line level)."""
+    from .piers import MAX_PIER_ROBOTS, PierStudy, derive
+
+    if opts.piers == "none":
+        return None, "not derived (--piers none)"
+    if limits is None:
+        return None, "not derived: there is no limits record"
+    line = next((lvl for lvl in limits.levels if lvl.kind == "line"), None)
+    if line is None:
+        return None, "not derived: the limits have no line level (the line crosses no void)"
+    # without a top-down coupling robots cannot be stacked: a pier is one robot
+    k = MAX_PIER_ROBOTS if inp.connectors.top_twist is not None else 1
+    return derive(PierStudy(inp, line, max_pier_robots=k)), ""
+
+
+def with_piers(limits: StructureLimits | None, inp: StudyInputs, opts: RunOptions):
+    """``(limits with the pier rule, derivation or None, why not)``."""
+    d, why = pier_derivation(inp, limits, opts)
+    if d is None:
+        return limits, None, why
+    return replace(limits, piers=d.rule), d, ""
+
+
 def not_converged(failures: Iterable[tuple[str, NonConvergence]]) -> dict:
     """``{"not_converged": [...], "warnings": [...]}`` for a summary: every solve that did not
     converge (with its context and what it was counted as) and one ``warning: ...`` line each."""
@@ -164,6 +195,7 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
     inp, info = make_inputs(opts)  # bad input fails here, before anything is created
     d = derive(inp, progress, narrow=True)
     limits = limits_from(d) if d.levels else None
+    limits, piers, piers_why = with_piers(limits, inp, opts)
     rows = table(d, progress)
     tapered = tapered_arches(d, progress=progress)
     alt_failures = _alt_thresholds(inp, info, opts) if alternative else []
@@ -179,8 +211,9 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
             files["docs_tapered_plot"] = str(tapered_plot(d, tapered, Path(docs_dir) / "img" / TAPERED_PLOT))
     link = TAPERED_PLOT if plots and tapered else None
     from .margins import markdown as margins_markdown
+    from .outputs import piers_markdown
 
-    sect = margins_markdown(structures)
+    sect = margins_markdown(structures) + piers_markdown(piers, piers_why)
     md = table_markdown(rows, d, limits, info, tapered_markdown(tapered, d, link)) + "\n" + sect
     files.update({
         "markdown": str(write_text_atomic(out / "selection_table.md", md)),
@@ -201,7 +234,9 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
         files.update(write_plots(out, d))
     res = summary(d, limits, info, files, rows, tapered)
     res["structures"] = structures
-    res.update(not_converged([("", f) for f in d.failures] + alt_failures))
+    res["piers"] = piers.to_dict() if piers is not None else {"rule": None, "why": piers_why}
+    pier_failures = [("pier rule", f) for f in piers.failures] if piers is not None else []
+    res.update(not_converged([("", f) for f in d.failures] + alt_failures + pier_failures))
     if limits is None:
         res["warnings"].append(f"warning: {no_crossing(d)}; limits.json not written"
                                + (f" (the older {out / 'limits.json'} was removed)" if stale else ""))
@@ -338,8 +373,9 @@ def run_study(out: str | Path, opts: RunOptions = RunOptions(), progress: Progre
 def packaged_limits(properties: str | None = None) -> StructureLimits:
     """The derived limits of the packaged robot properties (or ``properties``) with default options:
     what the shipped limits.json must hold."""
-    inp, _ = make_inputs(RunOptions(properties=properties))
-    return limits_from(derive(inp, narrow=True))
+    opts = RunOptions(properties=properties)
+    inp, _ = make_inputs(opts)
+    return with_piers(limits_from(derive(inp, narrow=True)), inp, opts)[0]
 
 
 def write_packaged_limits(properties: str | None = None) -> Path:

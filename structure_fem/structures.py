@@ -166,11 +166,71 @@ class Coupling:
 
 @dataclass(frozen=True)
 class Support:
-    """A one-sided ledge support under body ``body`` at global point ``point_m`` ("near" or "far" ledge)."""
+    """A one-sided support under body ``body`` at global point ``point_m``: on the ``"near"`` or
+    ``"far"`` ledge, or (``ledge == "pier"``) on the top of pier number ``pier`` of the layout."""
 
     body: int
     point_m: tuple[float, float]
     ledge: str
+    pier: int | None = None
+
+
+@dataclass(frozen=True)
+class Pier:
+    """An elastic column standing on the void floor with its top at the ledge height (z = 0).
+
+    ``at_widths``: its near face, in robot pitches from the near edge (x = 0); ``width_widths``:
+    its width along the void in robot lengths (a stack of robots: 1); ``stiffness_n_per_m``: the
+    vertical stiffness of the whole column, top to floor (``structure_fem.piers.pier_stiffness``
+    for a stack of robots); ``robots``: how many robots it is made of (0: not a robot stack,
+    informational); ``mass_kg``: its mass (carried by the floor; only the static solver's
+    stabiliser sees it). The structure rests on its top through one-sided contacts like the
+    ledge's, so a pier can only push up. Its top stays level and does not move along the void:
+    the pier's rocking, sway and buckling are not modelled.
+    """
+
+    at_widths: float
+    stiffness_n_per_m: float
+    width_widths: float = 1.0
+    robots: int = 0
+    mass_kg: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("at_widths", "width_widths", "stiffness_n_per_m", "mass_kg"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise InputError(f"pier {name}={v!r} is not a finite number")
+        if self.at_widths <= 0:
+            raise InputError(f"pier at {self.at_widths:g} robot widths: a pier stands inside the void "
+                             "(position > 0 from the near edge)")
+        if self.width_widths <= 0:
+            raise InputError(f"pier width {self.width_widths:g} robot widths must be > 0")
+        if self.stiffness_n_per_m <= 0:
+            raise InputError(f"pier stiffness {self.stiffness_n_per_m:g} N/m must be > 0")
+        if self.mass_kg < 0:
+            raise InputError(f"pier mass {self.mass_kg:g} kg must be >= 0")
+
+    def x_range_m(self, pitch_m: float, length_m: float) -> tuple[float, float]:
+        """Near and far face (m from the near edge)."""
+        x0 = self.at_widths * pitch_m
+        return x0, x0 + self.width_widths * length_m
+
+
+def check_piers(piers: tuple[Pier, ...], void_widths: float, pitch_m: float, length_m: float) -> None:
+    """Piers inside the void (far face short of the far edge), in order, not overlapping."""
+    void = void_widths * pitch_m
+    last = 0.0
+    for i, p in enumerate(piers):
+        if not isinstance(p, Pier):
+            raise InputError(f"pier {i + 1}: expected a Pier, got {p!r}")
+        x0, x1 = p.x_range_m(pitch_m, length_m)
+        if x1 >= void - 1e-9:
+            raise InputError(f"pier at {p.at_widths:g} robot widths ({p.width_widths:g} wide) reaches beyond the "
+                             f"{void_widths:g}-wide void")
+        if x0 < last - 1e-9:
+            raise InputError(f"pier at {p.at_widths:g} robot widths overlaps the pier before it (or the piers "
+                             "are not in order from the near edge)")
+        last = x1
 
 
 @dataclass(frozen=True)
@@ -183,10 +243,16 @@ class Layout:
     length_m: float
     pitch_m: float
     void_m: float
+    #: Intermediate supports (:class:`Pier`), in order from the near edge.
+    piers: tuple[Pier, ...] = ()
+
+    def pier_range_m(self, i: int) -> tuple[float, float]:
+        return self.piers[i].x_range_m(self.pitch_m, self.length_m)
 
 
 def layout(structure: Structure, robot: RobotProperties, conn: ConnectorSet, rows: int,
-           rows_over: float, void_widths: float, phase: str = "cantilever") -> Layout:
+           rows_over: float, void_widths: float, phase: str = "cantilever",
+           piers: tuple[Pier, ...] = ()) -> Layout:
     """Place a ``rows``-long structure with its front face ``rows_over`` pitches past the
     near edge (x = 0) of a void ``void_widths`` robot lengths wide.
 
@@ -196,9 +262,15 @@ def layout(structure: Structure, robot: RobotProperties, conn: ConnectorSet, row
     Supports sit under the two bottom corners of every body whose centre is
     over a ledge, at the corners that are over that ledge.
 
+    ``piers`` (:class:`Pier`, uniform structures only): a layer-0 body whose underside overlaps
+    a pier's top rests on it at both ends of the overlap (both corners for a body right over a
+    one-robot-wide pier; a body that only touches the pier's face at a corner does not rest on it).
+
     A tapering structure (``structure.tapered``) is placed by :func:`tapered_layout`.
     """
     if structure.tapered:
+        if piers:
+            raise InputError(f"{structure.name}: piers under a tapering arch are not modelled")
         return tapered_layout(structure, robot, conn, rows, rows_over, void_widths, phase)
     if not (isinstance(rows, int) and rows >= 1):
         raise InputError(f"rows must be an integer >= 1, got {rows!r}")
@@ -251,13 +323,30 @@ def layout(structure: Structure, robot: RobotProperties, conn: ConnectorSet, row
                 xo = 0.5 * (bodies[a].x_m + bodies[c].x_m)
                 couplings.append(Coupling(c, a, (xo, k * H + rail.height_m), rail, pairs, "side_rail"))
 
-    supports = _ledge_supports(bodies, L, void, phase)
+    piers = tuple(piers)
+    check_piers(piers, void_widths, pitch, L)
+    supports = _ledge_supports(bodies, L, void, phase) + _pier_supports(bodies, L, pitch, piers)
     if not any(s.ledge == "near" for s in supports):
         raise InputError(f"{structure.name}: no row of the {rows}-row structure rests on the near ledge "
                          f"with {rows_over} rows over the void")
     front = index[(0, 0, 0)]
     rear = index[(0, 0, rows - 1)]
-    return Layout(tuple(bodies), tuple(couplings), tuple(supports), front, rear, L, pitch, void)
+    return Layout(tuple(bodies), tuple(couplings), tuple(supports), front, rear, L, pitch, void, piers)
+
+
+def _pier_supports(bodies: list[Body], L: float, pitch: float, piers: tuple[Pier, ...]) -> list[Support]:
+    """Supports at both ends of the overlap of a layer-0 body's underside with a pier's top."""
+    out: list[Support] = []
+    tol = 1e-9
+    for k, p in enumerate(piers):
+        x0, x1 = p.x_range_m(pitch, L)
+        for i, bd in enumerate(bodies):
+            if bd.layer != 0:
+                continue
+            a, b = max(bd.x_m - L / 2, x0), min(bd.x_m + L / 2, x1)
+            if b - a > tol:
+                out += [Support(i, (a, 0.0), "pier", k), Support(i, (b, 0.0), "pier", k)]
+    return out
 
 
 def _ledge_supports(bodies: list[Body], L: float, void: float, phase: str) -> list[Support]:

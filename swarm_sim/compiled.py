@@ -567,7 +567,7 @@ def _kind(state, p, check: bool) -> int | None:
     st = state.structure
     if st is None:
         return K_NONE if state.phase in (_P_SEARCH, _P_DELIVERED, _P_WANDER) else None
-    if state.phase != _P_BUILD or st.shell or st.job:
+    if state.phase != _P_BUILD or st.shell or st.job or st.piers:
         return None
     if (p.switch_levels[st.level][6] if p.switch_levels else p.taper_block_rows):  # a tapering arch
         return None

@@ -15,13 +15,19 @@ a ``fault_detected`` event with ``how`` and the delay since the fault):
 ``seed_reports_no_motion``  the others: the seed broadcasts that it cannot align (its own
                             wheels do not turn: a robot knows its own drive failed)
 ``no_reply_to_call``        the structure: a called robot does not answer (total failure)
-``no_motion_when_called``   the structure: a recruit that never moved in ``recruit_stall_s``
-                            (a drive failure; a recruit that moved and got stuck is only passed
-                            over for this dock, see :mod:`swarm_sim.recruitment`)
+``replied_cannot_drive``    the structure: a called robot answers that it cannot drive
+``reports_cannot_drive``    the structure: a recruit whose drive fails on its way says so
+``no_motion_when_called``   the structure: a recruit that stopped coming for ``recruit_stall_s``
+                            and does not answer when asked (a total failure on its way; a
+                            recruit that is only stuck answers, and is passed over for this
+                            dock, see :mod:`swarm_sim.recruitment`)
+``answered_pier_call``      the structure: a free robot that cannot drive or cannot see answers
+                            the call for pier material (:mod:`swarm_sim.piers`)
 ==========================  =================================================================
 
-A robot knows its own drive and sensor failures (motor odometry, sensor self-test): a free
-robot that cannot drive, or cannot see the edge or the target, stops where it is (fail-safe:
+A robot knows its own drive and sensor failures (wheel odometry, sensor self-test) and says so
+when it is asked and can still communicate: a free robot that cannot drive, or cannot see the
+edge or the target, stops where it is (fail-safe:
 walking on blind would risk the fall the invariants forbid) and never offers itself as a seed.
 A failed robot is then an obstacle (the walk's neighbour avoidance already sees every robot).
 

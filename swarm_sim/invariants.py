@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import piers as PR
 from . import rule as R
 from . import structure as S
 from . import taper as T
@@ -43,12 +44,17 @@ def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> lis
     ex, ey = world.half_extents(state.heading_rad)
     x, y = state.x_cm, state.y_cm
     over = (x + ex > world.x0_cm + 1e-9) & (x - ex < world.x1_cm - 1e-9)
+    # supported otherwise: robots stacked in a pier (on the floor) and a pier round's robots
+    # riding on the structure's top (swarm_sim.piers)
+    held = members | set(np.flatnonzero(state.mode == Mode.PIER).tolist()) | set(
+        PR.carried(st) if st is not None else ())
     for i in (np.flatnonzero(over) if over.any() else ()):
-        if int(i) not in members:
+        if int(i) not in held:
             out.append(f"t={state.t_s:.2f}s: robot {int(i)} (mode {Mode(int(state.mode[i])).name}) is over the "
                        f"void at ({state.x_cm[i]:.2f}, {state.y_cm[i]:.2f}) cm outside any structure")
     if st is not None and (st.members or st.shell) and st.action != "align":
-        c = S.counts_at(st.front_s_cm, S.full_rows(st), p.robot_length_cm, p.void_width_cm)
+        fr, vv, rule = PR.rule_frame(st, p) if st.piers else (st.front_s_cm, p.void_width_cm, level_params(p, st).rule)
+        c = S.counts_at(fr, S.full_rows(st), p.robot_length_cm, vv)
         if (not level_params(p, st).taper_block_rows and st.members
                 and S.all_rows(st) > S.full_rows(st)) and S.centres_s(st, p.robot_length_cm)[-1] > 0:
             out.append(f"t={state.t_s:.2f}s: a partly filled row is off the initial ground")
@@ -62,9 +68,14 @@ def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> lis
                            f"breaks the rule (ratio {p.ground_ratio}, margin {p.ground_margin}, span "
                            f"{p.max_span_widths}, core rows over {rc.core_rows_over})")
             out += _shell_violations(state, st, g, p)
-        elif c.n_g and not R.stable(c, *p.rule):
+        elif st.piers and not PR.stable_at(st, p, st.front_s_cm, S.full_rows(st)):
+            out.append(f"t={state.t_s:.2f}s: structure n_p={c.n_p} n_g={c.n_g} n_o={c.n_o} (from the last pier) "
+                       f"breaks the rule over its piers {st.piers}")
+        elif c.n_g and not R.stable(c, *rule):
             out.append(f"t={state.t_s:.2f}s: structure n_p={c.n_p} n_g={c.n_g} n_o={c.n_o} breaks the "
-                       f"rule (ratio {p.ground_ratio}, margin {p.ground_margin}, span {p.max_span_widths})")
+                       f"rule (ratio {rule[0]}, margin {rule[1]}, span {rule[2]}"
+                       + (f", counted from pier far face at {vv - p.void_width_cm:+.1f} cm" if st.piers else "")
+                       + ")")
         ids, slots = S.occupied(st)
         if (state.struct_index[ids] != slots // S.row_size(st) + 1).any():
             out.append(f"t={state.t_s:.2f}s: structure indices {state.struct_index[ids].tolist()} are not 1..n")
@@ -106,10 +117,13 @@ def lost_robots(state: SwarmState, world: World) -> np.ndarray:
     if not near.size:
         return near
     near = near[world.over_void(x[near], state.heading_rad[near])]
+    if near.size:
+        near = near[state.mode[near] != Mode.PIER]  # in a pier: standing on the floor, never lost
     st = state.structure
     if near.size and st is not None and (st.members or st.shell):
         # structure members (open slots are OPEN = -1, never a robot id) and the feet are carried
         carried = set(st.members)
         carried.update(st.shell)
+        carried.update(PR.carried(st))
         near = np.array([i for i in near.tolist() if i not in carried], dtype=np.int64)
     return near

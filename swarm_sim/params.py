@@ -31,7 +31,7 @@ TOML_KEYS = {
     "scenario.void_width": "void_width", "scenario.case_margin": "case_margin",
     "scenario.structure": "structure",
     "arena.width_cm": "arena_w_cm", "arena.height_cm": "arena_h_cm",
-    "void.left_x_cm": "void_left_x_cm",
+    "void.left_x_cm": "void_left_x_cm", "void.depth_cm": "void_depth_cm",
     "robot.length_cm": "robot_length_cm", "robot.width_cm": "robot_width_cm",
     "robot.wheel_base_cm": "wheel_base_cm", "robot.wheel_radius_cm": "wheel_radius_cm",
     "robot.wheel_width_cm": "wheel_width_cm", "robot.shape": "shape",
@@ -67,6 +67,9 @@ class Params:
     arena_w_cm: float = 500.0
     arena_h_cm: float = 300.0
     void_left_x_cm: float | None = None  # None: void centred
+    #: ledge to floor (cm); 0: not given (the thesis's voids: vertical sides, no floor in reach),
+    #: then no pier can be built (swarm_sim.piers)
+    void_depth_cm: float = 0.0
     robot_length_cm: float = 10.0
     robot_width_cm: float = 10.0
     wheel_base_cm: float = 7.0
@@ -127,6 +130,13 @@ class Params:
     #: structure = "switch": every level of the record, in order, as (name, lines, layers,
     #: ground_ratio, ground_margin incl. case margin, max_span_widths, taper_block_rows or 0)
     switch_levels: tuple = ()
+    #: piers (swarm_sim.piers; from the limits record's pier rule, 0 / () when it has none or
+    #: this void's depth takes no pier): robots per pier, piers allowed, the rule beyond a pier
+    pier_robots: int = 0
+    pier_max: int = 0
+    pier_ground_ratio: float = 1.0
+    pier_ground_margin: int = 1
+    pier_overhang_widths: int = 0
     extra: dict = field(default_factory=dict, compare=False)
 
     # ------------------------------------------------------------------ derived geometry
@@ -185,6 +195,8 @@ class Params:
             and self.climb_s_per_layer >= 0,
             f"climb_s_per_layer must be a number >= 0 (seconds), got {self.climb_s_per_layer!r}")
         pos("heartbeat_s")
+        req(isinstance(self.void_depth_cm, float) and math.isfinite(self.void_depth_cm) and self.void_depth_cm >= 0,
+            f"void_depth_cm must be a number >= 0 (0: not given), got {self.void_depth_cm!r}")
         req(isinstance(self.heartbeat_misses, int) and not isinstance(self.heartbeat_misses, bool)
             and 1 <= self.heartbeat_misses <= 100,
             f"heartbeat_misses must be an integer in 1..100, got {self.heartbeat_misses!r}")
@@ -290,7 +302,9 @@ def with_overrides(params: Params, overrides: dict, source: str = "override") ->
     names = {f.name for f in fields(Params)} - {"extra", "limits_source", "ground_ratio", "ground_margin",
                                                 "max_span_widths", "min_robots_rule", "record_min_robots",
                                                 "level_name", "lines", "layers",
-                                                "switch_levels", "taper_block_rows"}
+                                                "switch_levels", "taper_block_rows", "pier_robots", "pier_max",
+                                                "pier_ground_ratio", "pier_ground_margin",
+                                                "pier_overhang_widths"}
     clean = {}
     for k, v in overrides.items():
         if k not in names:
@@ -386,11 +400,37 @@ def with_limits(params: Params, limits) -> Params:
         rule_min = need
         level = limits.levels[0]
         margin = int(level.ground_margin) + params.case_margin
-    return replace(params, limits_source=limits.source, ground_ratio=float(level.ground_ratio),
+    piers = _pier_fields(params, limits, level)
+    return replace(params, **piers, limits_source=limits.source, ground_ratio=float(level.ground_ratio),
                    ground_margin=margin, max_span_widths=int(level.max_span_widths), min_robots_rule=int(rule_min),
                    record_min_robots=int(record_min), level_name=level.name, lines=int(level.lines),
                    layers=int(level.layers), taper_block_rows=int(level.taper_block_rows or 0),
                    switch_levels=switch)
+
+
+def _pier_fields(params: Params, limits, level) -> dict:
+    """The pier rule for this run (swarm_sim.piers): none without a rule in the record, for a
+    structure other than the rule's, or for a depth no stack of robots fits."""
+    from .piers import robots_per_pier
+
+    rule = getattr(limits, "piers", None)
+    none = {"pier_robots": 0, "pier_max": 0}
+    if rule is None or params.structure != "line" or level.name != rule.structure or not params.void_depth_cm:
+        return none
+    standing, pitch = getattr(rule, "standing_height_m", None), getattr(rule, "stack_pitch_m", None)
+    if not standing or not pitch:
+        return none
+    deck = getattr(rule, "deck_height_m", None) or 0.0
+    k = robots_per_pier(params.void_depth_cm, 100 * standing, 100 * pitch, 0.1 * float(limits.clearance_mm),
+                        100 * deck)
+    if not k or k > len(rule.overhang_widths) or rule.overhang_widths[k - 1] < 1:
+        return none
+    # a second pier when the record found the same overhang safe beyond it
+    two = rule.overhang_widths_two_piers[k - 1] >= rule.overhang_widths[k - 1]
+    return {"pier_robots": k, "pier_max": 2 if two else 1,
+            "pier_ground_ratio": float(rule.ground_ratio),
+            "pier_ground_margin": int(rule.ground_margin) + params.case_margin,
+            "pier_overhang_widths": int(rule.overhang_widths[k - 1])}
 
 
 @lru_cache(maxsize=64)

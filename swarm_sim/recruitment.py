@@ -176,16 +176,17 @@ def candidates(tk: Tick) -> np.ndarray:
 
 
 def answering(tk: Tick, fields: list[CostField], pool: list[int]) -> list[int]:
-    """:func:`closest`, then the call: a robot that does not answer (a total failure) is known to
-    have failed and the next closest is called instead."""
+    """:func:`closest`, then the call: a robot that does not answer (a total failure) or answers
+    that it cannot drive (it knows from its own wheels) is known to have failed and the next
+    closest is called instead."""
     pool = list(pool)
     while True:
         chosen = closest(fields, pool, tk.x, tk.y)
-        silent = [r for r in chosen if tk.is_failed(r, TOTAL)]
-        if not silent:
+        bad = [r for r in chosen if tk.is_failed(r, DRIVE)]
+        if not bad:
             return chosen
-        for r in silent:
-            tk.detect(r, "no_reply_to_call")
+        for r in bad:
+            tk.detect(r, "no_reply_to_call" if tk.is_failed(r, TOTAL) else "replied_cannot_drive")
             pool.remove(r)
 
 
@@ -222,9 +223,13 @@ def approach(tk: Tick) -> None:
         if rx == dxp and ry == dyp and rh == dir_h:
             continue
         arrived_all = False
-        if tk.is_failed(r, DRIVE):  # it cannot come: no motion when called (hand_over detects it)
+        if tk.is_failed(r, TOTAL):  # silent and still: no motion when called (hand_over detects it)
             if tk.t - since[i] > p.recruit_stall_s:
                 stalled.append(i)
+            continue
+        if tk.is_failed(r, DRIVE):  # its wheels stopped: it tells the structure at once
+            tk.detect(r, "reports_cannot_drive")
+            stalled.append(i)
             continue
         if final[i]:
             # the drive in is part of the structure, which ignores obstacles (assumption 13)
@@ -238,8 +243,6 @@ def approach(tk: Tick) -> None:
             in_h = dir_h if math.hypot(dxp - ax, dyp - ay) < 1e-9 else math.atan2(dyp - ay, dxp - ax)
             nx, ny, nh, final[i] = drive_along(field, rx, ry, rh, p, world, final_heading=in_h, align_h=in_h)
             left = field.cost_at(nx, ny) + math.hypot(ax - dxp, ay - dyp)
-        if tk.fault is not None and (nx, ny, nh) != (rx, ry, rh) and r not in tk.st.recruit_moved:
-            tk.st = replace(tk.st, recruit_moved=tk.st.recruit_moved + (r,))
         tk.x[r], tk.y[r], tk.h[r] = nx, ny, nh
         if left < best[i] - half_cell:
             best[i], since[i] = left, tk.t
@@ -274,7 +277,7 @@ def dock(tk: Tick) -> None:
     tk.mode[list(st.recruits)] = _MEMBER
     tk.ev("dock", st.recruits[0], index=len(members), robots=list(st.recruits))
     tk.st = replace(st, members=members, recruits=(), recruit_slots=(), recruit_best_cm=(), recruit_progress_s=(),
-                    recruit_final=(), recruit_moved=(), passed_over=(), action="idle", progress_s=tk.t)
+                    recruit_final=(), passed_over=(), action="idle", progress_s=tk.t)
 
 
 def hand_over(tk: Tick, i: int) -> bool:
@@ -283,8 +286,8 @@ def hand_over(tk: Tick, i: int) -> bool:
     st = tk.st
     r, slot = st.recruits[i], st.recruit_slots[i]
     tk.mode[r] = _EXPLORE
-    if r not in st.recruit_moved:
-        tk.detect(r, "no_motion_when_called")  # a robot that moved and got stuck is only passed over
+    if tk.is_failed(r, TOTAL):  # no motion, and no answer when the structure asks (a stuck robot answers)
+        tk.detect(r, "no_motion_when_called")
     tk.st = st = replace(st, passed_over=st.passed_over + (r,))
     field = slot_field(st, tk.p, tk.world, slot)[0]
     pool = [int(c) for c in candidates(tk)]
@@ -311,7 +314,7 @@ def call_off(tk: Tick) -> None:
     if st.recruits:
         tk.mode[list(st.recruits)] = _EXPLORE
     tk.st = replace(st, recruits=(), recruit_slots=(), recruit_best_cm=(), recruit_progress_s=(), recruit_final=(),
-                    recruit_moved=(), action="idle" if st.action == "recruit" else st.action)
+                    action="idle" if st.action == "recruit" else st.action)
 
 
 def open_slots(st: Structure) -> list[int]:

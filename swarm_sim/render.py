@@ -25,6 +25,7 @@ from .state import Mode, SwarmState, thesis_state
 MODE_NAMES = {
     Mode.EXPLORE: "exploring (-1)", Mode.SEED: "seed", Mode.RECRUIT: "recruit", Mode.MEMBER: "in structure",
     Mode.TARGET: "target search (-2)", Mode.RETREAT: "retreating (-3)", Mode.STOPPED: "stopped",
+    Mode.PIER: "in a pier (-4)",
 }
 
 #: event captions; the events marked True are where snapshots are taken
@@ -43,6 +44,14 @@ CAPTIONS = {
     "dissolved": ("the structure has dissolved", True),
     "stopped": ("the swarm stopped", False),
     "timeout": ("time limit reached", True),
+    "fault": ("robot {r} failed ({mode})", True),
+    "fault_detected": ("robot {r}'s failure detected ({how}, {delay_s:.1f} s)", False),
+    "pushed_clear": ("failed robot {r} pushed clear", False),
+    "pier_site": ("a pier is started beyond the front", True),
+    "pier_lowered": ("failed robot {r} lowered onto the pier ({robots}/{needed})", True),
+    "pier_complete": ("the pier is complete: the line spans on from it", True),
+    "structure_abandoned": ("the structure is abandoned ({why})", True),
+    "stranded": ("stranded: {why}", True),
 }
 CAPTION_S = 4.0  # simulated seconds an event's caption stays on screen
 
@@ -66,6 +75,7 @@ COLOURS = {  # by mode
     Mode.TARGET: "#1f77b4",    # -2 target exploration: blue
     Mode.RETREAT: "#8c564b",   # -3 retreat: brown
     Mode.STOPPED: "#7f7f7f",   # stopped: grey
+    Mode.PIER: "#17becf",      # -4 stacked in a pier (failed robots): cyan
 }
 
 
@@ -161,7 +171,7 @@ class Renderer:
         self.caption = ax.text(0.99, 0.98, "", transform=ax.transAxes, ha="right", va="top", fontsize=9,
                                bbox={"boxstyle": "round", "fc": "white", "ec": "0.6", "alpha": 0.85})
         handles = [Rectangle((0, 0), 1, 1, color=c) for c in COLOURS.values()]
-        fig.legend(handles, [MODE_NAMES[m] for m in COLOURS], fontsize=9, loc="outside lower center", ncol=7,
+        fig.legend(handles, [MODE_NAMES[m] for m in COLOURS], fontsize=9, loc="outside lower center", ncol=4,
                    frameon=False)
         self.sv = sv = fig.add_subplot(gs[1])
         L = p.robot_length_cm

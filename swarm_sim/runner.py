@@ -21,7 +21,7 @@ from .errors import InputError, InvariantViolation
 from .invariants import lost_robots, violations
 from .params import Params, load_preset, with_limits, with_overrides
 from .retreat import end_reason
-from .state import Phase, SwarmState, new_state
+from .state import Mode, Phase, SwarmState, new_state
 from .step import ENDED, step
 from .world import World
 
@@ -375,6 +375,7 @@ def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None
         construction=construction_times(state.events, state.phase), record_min_robots=p.record_min_robots,
         end_reason=end_reason(state.events, state.phase),
         hand_overs=sum(1 for _t, k, _r, _d in state.events if k == "hand_over"), faults_spec=p.faults,
+        robots_in_piers=int((state.mode == Mode.PIER).sum()),
         faults=fault_records(state.events))
     return state, res
 

@@ -22,6 +22,7 @@ class Mode(IntEnum):
     TARGET = 4    # -2: released at the front, explores the target side
     RETREAT = 5   # -3: released at the rear after a failed crossing, wanders
     STOPPED = 6   # -3 after the wander period (failure) / any robot once the run ended
+    PIER = 7      # -4: a failed robot stacked in a pier on the void's floor (swarm_sim.piers)
 
 
 #: Modes whose motion is the exploration walk (vectorised over a mask).
@@ -74,8 +75,6 @@ class Structure:
     recruit_progress_s: tuple[float, ...] = ()
     #: per recruit: reached its approach point, now driving straight in
     recruit_final: tuple[bool, ...] = ()
-    #: recruits seen to move since they were called (faults: one that never moved failed)
-    recruit_moved: tuple[int, ...] = ()
     #: robots that failed to reach this dock point (handed over); cleared by the next dock
     passed_over: tuple[int, ...] = ()
     #: when the structure last docked, moved, released, switched or saw a robot come closer (s)
@@ -96,6 +95,17 @@ class Structure:
     job_until_s: float = 0.0
     job_best_cm: tuple[float, ...] = ()
     job_progress_s: tuple[float, ...] = ()
+    #: piers (swarm_sim.piers): per pier (near face s past the near edge, cm; robots in it), the
+    #: robots in piers, and the round under way: (carrier, failed robot), its stage, the
+    #: carrier's pick-up point (cm), when a timed stage ends, its best path (cm) and last progress (s)
+    piers: tuple[tuple[float, int], ...] = ()
+    pier_members: tuple[int, ...] = ()
+    pier_job: tuple[int, ...] = ()
+    pier_stage: str = ""
+    pier_goal: tuple[float, float] = (0.0, 0.0)
+    pier_until_s: float = 0.0
+    pier_best_cm: float = 0.0
+    pier_progress_s: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -141,11 +151,13 @@ class SwarmState:
 
 
 def thesis_state(state: SwarmState) -> np.ndarray:
-    """Table 4.3 numbering: -1 initial, -2 target, -3 retreat, 1..n structure position."""
+    """Table 4.3 numbering: -1 initial, -2 target, -3 retreat, 1..n structure position (and
+    ours: -4 in a pier)."""
     out = np.full(state.n, -1, dtype=np.int16)
     m = state.mode
     out[m == Mode.TARGET] = -2
     out[(m == Mode.RETREAT) | (m == Mode.STOPPED)] = -3
+    out[m == Mode.PIER] = -4  # not in the thesis's table: a robot in a pier
     ins = (m == Mode.MEMBER) | (m == Mode.SEED)
     out[ins] = state.struct_index[ins]
     return out

@@ -28,6 +28,7 @@ import numpy as np
 
 from . import detection as DT
 from . import feet
+from . import piers as PR
 from . import recruitment as RC
 from . import release as RL
 from . import retreat as RT
@@ -41,7 +42,7 @@ from .tick import Tick
 from .world import wrap
 
 _EXPLORE, _SEED, _MEMBER = int(Mode.EXPLORE), int(Mode.SEED), int(Mode.MEMBER)
-_TARGET, _STOPPED = int(Mode.TARGET), int(Mode.STOPPED)
+_TARGET, _STOPPED, _PIER = int(Mode.TARGET), int(Mode.STOPPED), int(Mode.PIER)
 _P_SEARCH, _P_BUILD, _P_DELIVERED = int(Phase.SEARCH), int(Phase.BUILD), int(Phase.DELIVERED)
 _P_WANDER, _P_SUCCESS, _P_RETREATED, _P_TIMEOUT = (int(Phase.WANDER), int(Phase.SUCCESS), int(Phase.RETREATED),
                                                    int(Phase.TIMEOUT))
@@ -151,7 +152,7 @@ def _slide(tk: Tick) -> None:
 
 #: what each structure action does every step while it lasts (``idle`` decides, see :func:`decide`)
 MOTIONS = {"align": _align, "wait": _wait, "advance": _slide, "back": _slide, "recruit": RC.approach,
-           "idle": lambda tk: None}
+           "pier": PR.advance, "idle": lambda tk: None}
 
 
 def move_structure(tk: Tick) -> None:
@@ -233,6 +234,7 @@ ACTIONS = {
     "fill_near": lambda tk, ctx: feet.start_fill_near(tk, ctx["g"]),
     "unfill_near": lambda tk, ctx: feet.start_unfill(tk, ctx["g"], "unfill_near"),
     "dissolve_far": lambda tk, ctx: feet.start_unfill(tk, ctx["g"], "dissolve_far"),
+    "pier": lambda tk, ctx: PR.start(tk),
     "hold": lambda tk, ctx: None,
 }
 
@@ -261,6 +263,10 @@ def decide(tk: Tick) -> None:
             action, sit = T.decide(st, lp, g, int(free.size), enough, dock_ok)
     else:
         action, sit = S.decide(st, lp, enough, dock_ok)
+        if sit.span_blocked and p.pier_robots and not st.landed:
+            PR.call_for_material(tk)  # the span is reached: can failed robots make a pier?
+            if PR.ready(tk):
+                action, sit = S.decide(st, lp, enough, dock_ok, pier_ready=True)
     ACTIONS[action](tk, {"g": g, "sit": sit, "slots": slot_ids, "free": int(free.size), "dock_ok": dock_ok})
 
 
@@ -343,7 +349,7 @@ def finish(tk: Tick) -> None:
         tk.mode[WALKING_LUT[tk.mode]] = _STOPPED
     if tk.phase == _P_WANDER and t - tk.phase_since >= p.wander_after_retreat_s - 1e-9:
         tk.phase, tk.phase_since = _P_RETREATED, t
-        tk.mode[:] = _STOPPED
+        tk.mode[tk.mode != _PIER] = _STOPPED  # robots in piers stay there
         tk.ev("stopped")
     if tk.fault is not None and tk.target_finder < 0:
         if tk.phase == _P_SEARCH and not DT.search_possible(tk):

@@ -50,6 +50,7 @@ ACTIONS = {
     "recruit": "a called robot approaches the rear dock point",
     "advance": "move forward one robot length",
     "back": "move backward one robot length (retreat)",
+    "pier": "a failed robot is brought to the pier beyond the front (swarm_sim.piers)",
 }
 
 
@@ -152,27 +153,45 @@ class Situation:
     stable_without_rear: bool
     filling: bool = False      # new lines/layers of a switch still have open slots
     can_switch: bool = False   # structure = "switch" and a wider level follows this one
+    pier_ready: bool = False   # a pier can be built (or continued) beyond the front (swarm_sim.piers)
 
 
-def situation(st: Structure, p: Params, free_available: bool, dock_ok: bool) -> Situation:
-    L, V = p.robot_length_cm, p.void_width_cm
+def situation(st: Structure, p: Params, free_available: bool, dock_ok: bool, pier_ready: bool = False) -> Situation:
+    """With piers (:func:`swarm_sim.piers.rule_frame`) the rule is counted from the last
+    complete pier's far face once the front has reached it."""
+    from .piers import rule_frame
+
+    L, V0 = p.robot_length_cm, p.void_width_cm
     n, n_all = full_rows(st), all_rows(st)
-    c = counts_at(st.front_s_cm, n, L, V)
-    front_on_target = n_all > 0 and st.front_s_cm - L >= V - EPS
+    front, V, rule = rule_frame(st, p) if st.piers else (st.front_s_cm, V0, p.rule)
+    c = counts_at(front, n, L, V)
+    front_on_target = n_all > 0 and st.front_s_cm - L >= V0 - EPS
     rear_on_initial = n_all > 0 and st.front_s_cm - (n_all - 1) * L <= EPS
-    after = counts_at(st.front_s_cm + L, n, L, V)
-    span_blocked = not st.landed and after.n_g > p.max_span_widths
+    after = counts_at(front + L, n, L, V)
+    span_blocked = not st.landed and after.n_g > rule[2]
     launch_ok = n >= p.launch_min_robots or st.front_s_cm > EPS
     fill = filling(st)
     short_rear = n_all > n          # a rear row being recruited (not counted)
     partial = short_rear or fill    # ... or new lines still open after a switch: no move, no release
-    can_advance = (launch_ok and not partial and not span_blocked
-                   and R.move_stable(st.front_s_cm, st.front_s_cm + L, n, L, V, *p.rule))
-    wo_front = counts_at(st.front_s_cm - L, n - 1, L, V) if n > 1 else R.Counts(0, 0, 0)
-    wo_rear = c if short_rear else (counts_at(st.front_s_cm, n - 1, L, V) if n > 1 else R.Counts(0, 0, 0))
+    if st.piers:  # the piers are supports (swarm_sim.piers)
+        from .piers import move_ok, stable_at
+
+        f0 = st.front_s_cm
+        can_advance = launch_ok and not partial and not span_blocked and move_ok(st, p, f0, f0 + L, n)
+        wo_front_ok = n <= 1 or stable_at(st, p, f0 - L, n - 1)
+        wo_rear_ok = stable_at(st, p, f0, n) if short_rear else (n <= 1 or stable_at(st, p, f0, n - 1))
+        if st.retreating and not short_rear and n > 1:
+            # the rest backs off the piers later: it must stay stable all the way back to the edge
+            wo_rear_ok = wo_rear_ok and move_ok(st, p, f0, 0.0, n - 1)
+    else:
+        can_advance = (launch_ok and not partial and not span_blocked
+                       and R.move_stable(front, front + L, n, L, V, *rule))
+        wo_front = counts_at(front - L, n - 1, L, V) if n > 1 else R.Counts(0, 0, 0)
+        wo_rear = c if short_rear else (counts_at(front, n - 1, L, V) if n > 1 else R.Counts(0, 0, 0))
+        wo_front_ok, wo_rear_ok = R.stable(wo_front, *rule), R.stable(wo_rear, *rule)
     return Situation(c, n, st.landed, front_on_target and not partial, rear_on_initial, free_available,
-                     dock_ok, can_advance, span_blocked, R.stable(wo_front, *p.rule), R.stable(wo_rear, *p.rule),
-                     fill, bool(p.switch_levels) and st.level + 1 < len(p.switch_levels))
+                     dock_ok, can_advance, span_blocked, wo_front_ok, wo_rear_ok,
+                     fill, bool(p.switch_levels) and st.level + 1 < len(p.switch_levels), pier_ready)
 
 
 def can_recruit(s) -> bool:
@@ -194,6 +213,9 @@ def first_match(table: tuple, s) -> str:
 BUILD_TABLE = (
     ("release_front", lambda s: s.front_on_target and s.stable_without_front,
      "the front robot stands fully on the target ground and the rest stays stable without it"),
+    # issue 16: a pier of known failed robots beyond the front lengthens the line's span
+    ("pier", lambda s: s.span_blocked and s.pier_ready and not s.filling,
+     "the next advance would exceed the span and a pier can be built beyond the front"),
     # Ch. 5.5.2: the far ledge is not found within this level's span: widen to the next level
     ("switch", lambda s: s.span_blocked and s.can_switch and not s.filling,
      "the next advance would exceed this level's span, a wider level follows, no switch under way"),
@@ -217,7 +239,8 @@ RETREAT_TABLE = (
 )
 
 
-def decide(st: Structure, p: Params, free_available: bool, dock_ok: bool) -> tuple[str, Situation]:
+def decide(st: Structure, p: Params, free_available: bool, dock_ok: bool,
+           pier_ready: bool = False) -> tuple[str, Situation]:
     """``p``: the structure's level params (:func:`swarm_sim.params.level_params`)."""
-    s = situation(st, p, free_available, dock_ok)
+    s = situation(st, p, free_available, dock_ok, pier_ready)
     return first_match(RETREAT_TABLE if st.retreating else BUILD_TABLE, s), s

@@ -51,18 +51,28 @@ def test_a_silent_member_is_detected_by_its_missed_heartbeats():
     assert res.robots_lost == 0 and not res.violations and res.end_reason != "timeout"
 
 
-def test_a_recruit_that_never_moves_is_known_failed_and_the_next_is_called():
+def test_a_robot_that_cannot_drive_says_so_when_called_and_the_next_is_called():
     base = run_scenario("case-d", 12, 3, 3)
     rec = next(e for e in base.events if e[1] == "recruit")
     r = rec[3]["robots"][0]
     res = run(f"{r}@0:drive")
     det = [e for e in kinds(res, "fault_detected") if e[2] == r]
+    calls = {e[0] for e in res.events if e[1] in ("recruit", "hand_over")}
+    assert det and det[0][3]["how"] == "replied_cannot_drive" and det[0][0] in calls
+    assert not any(r in e[3]["robots"] for e in kinds(res, "recruit"))  # known failed: never called again
+
+
+def test_a_recruit_that_dies_on_its_way_is_found_by_no_motion_and_handed_over():
+    base = run_scenario("case-d", 12, 3, 3)
+    rec = next(e for e in base.events if e[1] == "recruit")
+    r, t = rec[3]["robots"][0], rec[0] + 0.5
+    p = resolve_params("case-d", 12, 3)
+    res = run(f"{r}@{t}:total")
+    det = [e for e in kinds(res, "fault_detected") if e[2] == r]
     assert det and det[0][3]["how"] == "no_motion_when_called"
+    assert det[0][3]["delay_s"] <= p.recruit_stall_s + 1.0
     hand = [e for e in kinds(res, "hand_over") if e[2] == r]
     assert hand and hand[0][3]["to"] != r
-    # known failed: never called again
-    later = [e for e in kinds(res, "recruit") if e[0] > det[0][0] and r in e[3]["robots"]]
-    assert not later
 
 
 def test_a_robot_that_does_not_answer_a_call_is_passed_by_at_once():

@@ -2,8 +2,8 @@
 
 Sub-commands: ``table`` (selection table, limits.json), ``study`` (plots,
 sensitivity), ``calibrate`` (test-platform bolt fit), ``solve`` (one
-configuration), ``bench`` (timings). exudyn is imported only when a
-sub-command runs.
+configuration), ``piers`` (one configuration over piers of failed robots),
+``bench`` (timings). exudyn is imported only when a sub-command runs.
 """
 
 from __future__ import annotations
@@ -30,6 +30,10 @@ EPILOG = """examples:
   voidcross fem design --void-width 5 --structure line
                                                stiffness, play or mass that would make the line span 5
   voidcross fem connectors                     compute (and cache) the FE of the record's couplings
+  voidcross fem table --piers none             the table without the pier (multi-span) rule
+  voidcross fem piers --void-width 7 --piers 3 --pier-robots 2 --plot piers.png
+                                               the line over a pier of 2 failed robots, front at the far edge
+  voidcross fem piers --void-width 11 --piers 3,7 --pier-robots 4 --json
 """
 
 
@@ -80,7 +84,8 @@ def _opts(args):
                       caster=args.caster, connectors=args.connectors, stiffness_scale=args.stiffness_scale,
                       backlash_scale=args.backlash_scale, mass_scale=args.mass_scale, required_tipping=args.tipping,
                       flexible=args.flexible, calibration_backlash=args.calibration_backlash,
-                      max_width=args.max_width, measured=args.measured)
+                      max_width=args.max_width, measured=args.measured,
+                      piers=getattr(args, "piers_rule", "auto"))
 
 
 def _bar(iterable, desc, total):
@@ -109,6 +114,7 @@ def run_table(args) -> int:
              f"calibrated platform bolt: {res['calibration']['bolt_stiffness_nm_per_rad']:.4g} N m/rad at "
              f"{res['calibration']['bolt_backlash_rad']:g} rad backlash\n"
              + _tapered_line(res.get("thesis_tapering_arches"))
+             + _piers_line(res.get("piers"))
              + _margins_lines(res.get("structures", []))
              + "\n".join(f"  {k}: {v}" for k, v in res["files"].items()))
     if not args.full_json:
@@ -132,6 +138,21 @@ def _margins_lines(structures: list[dict]) -> str:
         flag += ", at --max-width: a lower bound" if r.get("capped_by_max_width") else ""
         out.append(f"  {r['structure']}: {r['threshold']} (margin {r['margin_mm']:.2f} mm{flag}{setby}{rng})")
     return ("thresholds, margins and what sets them:\n" + "\n".join(out) + "\n") if out else ""
+
+
+def _piers_line(p: dict | None) -> str:
+    """One line: the pier (multi-span) rule, or why there is none."""
+    if not p:
+        return ""
+    r = p.get("rule")
+    if r is None:
+        return f"pier rule: {p.get('why', 'not derived')}\n"
+    ratio = max(r["max_void_widths"]) / r["first_span_widths"]
+    return (f"pier rule ({r['structure']}, first span {r['first_span_widths']}): overhang beyond one pier of "
+            f"1..{len(r['overhang_widths'])} robots {r['overhang_widths']}, beyond a second "
+            f"{r['overhang_widths_two_piers']}; widest void with one pier {r['max_void_widths']} "
+            f"(x{ratio:.3g}); rows behind the last support >= {r['ground_ratio']:g} x rows beyond + "
+            f"{r['ground_margin']}\n")
 
 
 def _tapered_line(t: dict | None) -> str:
@@ -253,6 +274,92 @@ def run_solve(args) -> int:
     return 0
 
 
+def parse_pier_positions(raw: str, void_width: float, width: float = 1.0) -> tuple[float, ...]:
+    """``--piers 3[,7]``: the piers' near faces in robot widths from the near edge, each ``width``
+    robot lengths wide, inside the void, in order and not overlapping; else an InputError naming
+    the value."""
+    import math
+
+    items = [x.strip() for x in str(raw).split(",")]
+    if not items or any(x == "" for x in items):
+        raise InputError(f"--piers {raw!r}: give pier positions as a comma list of numbers (robot widths from "
+                         "the near edge), e.g. 3 or 3,7")
+    out: list[float] = []
+    for x in items:
+        try:
+            v = float(x)
+        except ValueError:
+            raise InputError(f"--piers {raw!r}: {x!r} is not a number (pier positions in robot widths from "
+                             "the near edge)") from None
+        if not math.isfinite(v):
+            raise InputError(f"--piers {raw!r}: {x!r} is not a finite number")
+        if v <= 0:
+            raise InputError(f"--piers {raw!r}: pier at {v:g} is not inside the void (positions are > 0 robot "
+                             "widths from the near edge)")
+        if v + width >= void_width:
+            raise InputError(f"--piers {raw!r}: pier at {v:g} ({width:g} robot wide) reaches beyond the "
+                             f"{void_width:g}-wide void (--void-width)")
+        if out and v < out[-1] + width:
+            raise InputError(f"--piers {raw!r}: pier at {v:g} overlaps the pier at {out[-1]:g} (each is {width:g} "
+                             "robot wide; give them in order from the near edge)")
+        out.append(v)
+    return tuple(out)
+
+
+def run_piers(args) -> int:
+    from structure_fem.errors import SolverFailure
+    from structure_fem.piers import MAX_PIER_ROBOTS, PIER_WIDTH_WIDTHS, solve_piers
+    from structure_fem.runs import make_inputs
+    from voidcross.output import check_float, check_int
+
+    if args.plot:
+        if Path(args.plot).suffix.lower() not in (".png", ".svg", ".pdf"):
+            raise InputError(f"--plot {args.plot}: use a .png, .svg or .pdf file name")
+        out_file(args.plot, "--plot")
+    check_float(args.void_width, "--void-width", 0.0, float(args.max_width),
+                what="void width in robot widths, at most --max-width")
+    check_int(args.pier_robots, "--pier-robots", 1, MAX_PIER_ROBOTS,
+              what=f"robots stacked in a pier; the thesis stacks at most {MAX_PIER_ROBOTS} high")
+    at = parse_pier_positions(args.pier_positions, args.void_width, PIER_WIDTH_WIDTHS)
+    check_int(args.rows, "--rows", 1, MAX_SOLVE_ROWS)
+    check_float(args.over, "--over", 0.0, args.void_width, lo_open=False,
+                what="rows past the near edge, at most the void width (the front before the far ledge)")
+    if args.rows is not None and args.over is not None:
+        check_float(args.over, "--over", 0.0, float(args.rows), lo_open=False, what="rows past the near edge")
+    inp, _ = make_inputs(_opts(args))
+    s = _structure(args)
+    try:
+        sol = solve_piers(inp, args.void_width, at, args.pier_robots, s, args.rows, args.over)
+    except SolverFailure as exc:
+        print(f"warning: {s.name} at void width {args.void_width:g} over piers at {list(at)}: the static solve "
+              f"did not converge: {exc}", file=sys.stderr)
+        emit(args, {"structure": s.name, "converged": False, "reason": str(exc)},
+             f"{s.name} over piers at {list(at)}: the static solve did not converge (no result)")
+        return 0
+    payload = {"converged": True, **sol.to_dict()}
+    if args.plot:
+        from structure_fem.plots import side_view
+
+        payload["plot"] = str(side_view(sol.result, Path(args.plot), inp.robot.height_m))
+    res = sol.result
+    tf = payload["tipping_factor"]
+    by: dict[str, list[float]] = {}
+    for r in payload["support_reactions"]:
+        by.setdefault(r["support"], []).append(r["reaction_n"])
+    piers = "\n".join(f"  pier {i + 1} at {p['at_widths']:g}: {p['robots']} robots, K = {p['stiffness_n_per_m']:.4g} "
+                      f"N/m ({p['stiffness_formula']}), load {p['load_n']:.3f} N, compression "
+                      f"{p['compression_mm']:.4f} mm" for i, p in enumerate(payload["piers"]))
+    human = (f"{res.config.describe(inp.robot.name)}: {res.robots} robots, tip {res.tip_deflection_mm:.3f} mm "
+             f"(clearance {payload['clearance_mm']:g} mm), tipping factor "
+             f"{'-' if tf is None else f'{tf:.3f}'} about x = {payload['tipping_edge_m']:.3f} m: "
+             f"{'passes' if payload['passes'] else 'FAILS'}\n{piers}\n"
+             "  reactions: " + ", ".join(f"{k} {sum(v):.3f} N ({len(v)} contacts)" for k, v in by.items())
+             + f"; sum {payload['support_reactions_sum_n']:.3f} N of {payload['weight_n']:.3f} N weight"
+             + (f"\n  plot: {payload['plot']}" if args.plot else ""))
+    emit(args, payload, human)
+    return 0
+
+
 def run_design(args) -> int:
     from structure_fem.design import PARAMETERS, describe, design
     from structure_fem.runs import make_inputs
@@ -334,6 +441,8 @@ def register(sub, common) -> None:
     t.add_argument("--out", default="results/fem", help="output directory (default results/fem)")
     t.add_argument("--docs", default=None, metavar="DIR", help="also write DIR/structure_fem_table.md")
     t.add_argument("--full-json", action="store_true", help="include the table rows in --json output")
+    t.add_argument("--piers", dest="piers_rule", choices=("auto", "none"), default="auto",
+                   help="derive the pier (multi-span) rule into limits.json (auto, the default) or not (none)")
     _add_inputs(t)
     t.set_defaults(func=run_table)
 
@@ -364,6 +473,26 @@ def register(sub, common) -> None:
     o.add_argument("--plot", default=None, metavar="PNG", help="write a side view")
     _add_inputs(o)
     o.set_defaults(func=run_solve)
+
+    q = fs.add_parser("piers", parents=[common], help="solve one configuration over piers of failed robots",
+                      epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    q.add_argument("--void-width", type=float, required=True, metavar="W", help="void width (robot widths)")
+    q.add_argument("--piers", dest="pier_positions", required=True, metavar="X[,X2]",
+                   help="near face of each pier, robot widths from the near edge (each pier 1 robot wide)")
+    q.add_argument("--pier-robots", type=int, default=1, metavar="K",
+                   help="robots stacked in each pier with the top-down coupling (default 1)")
+    q.add_argument("--rows", type=int, default=None,
+                   help="rows in the structure (default: the fewest that stand, at least one on the near ledge)")
+    q.add_argument("--over", type=float, default=None,
+                   help="rows past the near edge (default: the void width, the front at the far edge)")
+    q.add_argument("--structure", choices=("line", "two_line", "arch"), default="line")
+    q.add_argument("--arrangement", choices=("aligned", "staggered"), default="staggered")
+    q.add_argument("--lines", type=int, default=4, help="arch lines side by side (<= 8)")
+    q.add_argument("--layers", type=int, default=2, help="arch layers (<= 4)")
+    q.add_argument("--plot", default=None, metavar="PNG", help="write a side view with the piers")
+    q.set_defaults(taper_block_rows=None)
+    _add_inputs(q)
+    q.set_defaults(func=run_piers)
 
     d = fs.add_parser("design", parents=[common], help="connector stiffness, play or mass that makes a structure span W",
                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)

@@ -69,8 +69,34 @@ def build_spec(args):
         raise InputError(f"--robots {args.robots}: {robots[-1]} must be <= {MAX_ROBOTS:,} (robots in the swarm)")
     if args.db is not None:  # a database path that cannot be a file is refused before any run
         out_file(args.db, "--db")
-    return SweepSpec(args.preset, robots, widths, runs=args.runs, limits=args.limits, seed0=args.seed,
-                     max_time_s=args.max_time_s, overrides=parse_set(args.set))
+    overrides = parse_set(args.set)
+    faults = fault_specs(getattr(args, "faults", None))
+    if faults is None:
+        return SweepSpec(args.preset, robots, widths, runs=args.runs, limits=args.limits, seed0=args.seed,
+                         max_time_s=args.max_time_s, overrides=overrides)
+    if "faults" in overrides:
+        raise InputError("give the faults either with --faults or with --set faults=..., not both")
+    return [SweepSpec(args.preset, robots, widths, runs=args.runs, limits=args.limits, seed0=args.seed,
+                      max_time_s=args.max_time_s, overrides={**overrides, **({"faults": f} if f else {})})
+            for f in faults]
+
+
+def fault_specs(text: str | None) -> list[str] | None:
+    """``--faults "none;drive:0.5/h;drive:1/h"`` -> one canonical spec per sweep (a failure-rate
+    curve: the same seeds at each rate); None without ``--faults``."""
+    if text is None:
+        return None
+    from swarm_sim.errors import InputError
+    from swarm_sim.faults import parse_faults
+
+    out = []
+    for item in text.split(";"):
+        spec = parse_faults(item.strip())
+        canon = "" if spec.empty else spec.describe()
+        if canon in out:
+            raise InputError(f"--faults {text!r}: {item.strip() or 'none'!r} is given twice")
+        out.append(canon)
+    return out
 
 
 def check_run_options(args) -> None:
@@ -116,6 +142,8 @@ def run(args: argparse.Namespace) -> int:
         # the workers (local processes, a local Dask cluster) inherit it; same results either way
         os.environ[ENGINE_ENV] = resolve_engine(args.engine)
     spec = build_spec(args)
+    if isinstance(spec, list):  # --faults A;B;...: one sweep per fault spec, run one after another
+        return _run_fault_curve(args, spec)
     if args.dry_run:
         import os
 
@@ -148,6 +176,34 @@ def run(args: argparse.Namespace) -> int:
         emit(args, s.to_dict(), human)
         return 130
     emit(args, s.to_dict(), human)
+    return 0
+
+
+def _run_fault_curve(args: argparse.Namespace, specs: list) -> int:
+    from swarm_sim.sweeps import prepare_sweep
+
+    if args.dry_run:
+        planned = sum(s.runs * len(s.point_list()) for s in specs)
+        emit(args, {"sweeps": len(specs), "planned": planned},
+             f"dry run (nothing written): {len(specs)} sweeps (one per fault spec) x "
+             f"{specs[0].runs * len(specs[0].point_list())} runs = {planned} runs planned")
+        return 0
+    done, lines = [], []
+    for spec in specs:
+        label = spec.overrides.get("faults") or "none"
+        plan = prepare_sweep(spec, args.db, resume=True, retry_errors=args.retry_errors, run_fn=args.run_fn)
+        s = execute_plan(plan, args.executor, args.workers, args.address, batch=args.batch,
+                         desc=f"sweep {spec.preset} faults {label}")
+        done.append({"faults": label, **s.to_dict()})
+        lines.append(f"faults {label}: {s.already_stored + s.ok + s.errors}/{s.planned} runs stored, {s.successes} "
+                     f"crossed this time, {s.errors} raised ({s.wall_s:.1f} s)")
+        if s.interrupted:
+            print("error: interrupted: the runs that finished are stored; re-run the same command to complete",
+                  file=sys.stderr)
+            emit(args, {"sweeps": done}, "\n".join(lines))
+            return 130
+    lines.append(f"-> {args.db}; voidcross report --db {args.db} draws the failure-rate curves")
+    emit(args, {"sweeps": done}, "\n".join(lines))
     return 0
 
 
@@ -246,6 +302,9 @@ def register(sub, common) -> None:
                    help="print the run count and a rough wall-time estimate (one timed run); write nothing")
     p.add_argument("--max-time-s", "--max-time", dest="max_time_s", type=float,
                    help="cap on simulated seconds per run (default: the preset's guard)")
+    p.add_argument("--faults", default=None, metavar="SPEC[;SPEC...]",
+                   help="robots that fail (as in sim run --faults); several specs separated by ';' run one "
+                        "sweep each with the same seeds, a failure-rate curve (e.g. 'none;drive:0.5/h;drive:1/h')")
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="scenario override passed to the simulator (repeatable; VALUE parsed as JSON)")
     p.add_argument("--run-fn", dest="run_fn", default=None,

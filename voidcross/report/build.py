@@ -464,6 +464,14 @@ def build_report(db, out, fem_dir=None, cad_dir=None, limits=None, watch: dict |
     ``watch``: the run played back in the page (``{"preset", "robots", "void_width", "seed",
     "limits"}``), ``"auto"`` (:func:`pick_watch_run`) or None (no playback)."""
     rs = load_runs(db)  # validates the database first (InputError, nothing written)
+    from dataclasses import replace as _replace
+
+    from .faults import section as faults_section
+    from .faults import split as split_faults
+
+    clean, faulty = split_faults(rs.runs)
+    all_runs = rs
+    rs = _replace(rs, runs=clean)  # the thesis's sections: fault-free runs only
     out = Path(out)
     fig_dir = out / "figures"
     fig_dir.mkdir(parents=True, exist_ok=True)
@@ -471,9 +479,9 @@ def build_report(db, out, fem_dir=None, cad_dir=None, limits=None, watch: dict |
         old.unlink()
     rel = "figures"
     lims, notes = limits_sets(limits)
-    presets = rs.presets()
+    presets = all_runs.presets()
     intro = [Para(f"Generated {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} from `{db}`: "
-                  f"{len(rs.runs)} completed runs, {len(rs.errors)} raised, presets: "
+                  f"{len(all_runs.runs)} completed runs ({len(faulty)} with faults), {len(rs.errors)} raised, presets: "
                   f"{', '.join(presets) or 'none'}. Times are simulated seconds.")]
     if rs.sweeps:
         intro.append(Table(["sweep", "started (UTC)", "planned runs", "spec"],
@@ -483,13 +491,15 @@ def build_report(db, out, fem_dir=None, cad_dir=None, limits=None, watch: dict |
     sections = [_limits_section(lims, notes, fig_dir, rel)]
     if watch is not None:
         sections.append(_watch_section(pick_watch_run(rs) if watch == "auto" else watch, out))
-    small = [p for p in presets if not p.startswith("large")]
+    small = [p for p in rs.presets() if not p.startswith("large")]  # fault-free runs
     if not small:
         sections.append(Section("Small voids (cases A-D)").add(Note("no small-void runs in this database.")))
     sections += [_preset_section(p, rs, lims, fig_dir, rel) for p in small]
     thesis_sec, comparison = _thesis_tables_section(rs, fig_dir, rel)
     sections.append(thesis_sec)
     sections.append(_large_void_section(rs, fig_dir, rel, lims))
+    fault_sec, fault_curves = faults_section(clean, faulty, fig_dir, rel)
+    sections.append(fault_sec)
     sections.append(_copy_assets(fem_dir, out, "fem", "structure_fem output",
                                  "Structure selection and deflection (structure_fem)"))
     sections.append(_copy_assets(cad_dir, out, "cad", "CAD render", "Robot and connector renders (cubot_cad)"))
@@ -506,6 +516,7 @@ def build_report(db, out, fem_dir=None, cad_dir=None, limits=None, watch: dict |
     n_fig = sum(isinstance(b, Figure) for s in sections for b in s.blocks)
     n_empty = sum(isinstance(b, Note) for s in sections for b in s.blocks)
     return {"html": str(html_path), "markdown": str(md_path), "figures": n_fig, "no_data_notes": n_empty,
-            "runs": len(rs.runs), "raised": len(rs.errors), "presets": presets,
+            "runs": len(all_runs.runs), "raised": len(rs.errors), "presets": presets,
+            "fault_curves": fault_curves,
             "thesis_tables": [{k: v for k, v in c.items() if k != "cells_detail"} for c in comparison],
             "thesis_cells": {c["table"]: c["cells_detail"] for c in comparison}}

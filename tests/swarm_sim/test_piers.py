@@ -1,0 +1,92 @@
+"""Piers of failed robots lengthen the line's span (issue 16; the thesis's future work 4)."""
+
+import dataclasses
+
+import pytest
+
+from structure_fem.limits import load_limits
+from swarm_sim.errors import InputError
+from swarm_sim.params import load_preset, with_limits, with_overrides
+from swarm_sim.piers import robots_per_pier
+from swarm_sim.runner import resolve_params, run_scenario, simulate
+
+
+def pier_params(width=6, robots=20, limits=None, **ov):
+    lim = limits or load_limits("derived")
+    p = with_overrides(load_preset("pier"), dict(robots=robots, void_width=width, **ov)).validate()
+    return with_limits(p, lim)
+
+
+def test_a_pier_needs_the_robots_whose_stack_reaches_the_ledge_within_the_clearance():
+    # standing 9 cm, pitch 9 cm, clearance 1.5 cm: tops at 9, 18, 27 cm
+    assert robots_per_pier(18.0, 9.0, 9.0, 1.5) == 2
+    assert robots_per_pier(19.4, 9.0, 9.0, 1.5) == 2          # 1.4 cm short: the line sags onto it
+    assert robots_per_pier(20.0, 9.0, 9.0, 1.5) == 0          # 2 cm short, 7 cm too tall: no stack fits
+    assert robots_per_pier(27.0, 9.0, 9.0, 1.5) == 3
+    assert robots_per_pier(27.0, 9.0, 9.0, 1.5, deck_cm=1.0) == 0  # the deck makes 3 too tall, 2 too short
+    assert robots_per_pier(19.0, 9.0, 9.0, 1.5, deck_cm=1.0) == 2
+    assert robots_per_pier(0.0, 9.0, 9.0, 1.5) == 0           # no depth given: no pier
+
+
+def test_the_pier_preset_crosses_a_void_wider_than_the_derived_line_with_the_line_and_its_pier():
+    lim = load_limits("derived")
+    line = next(lv for lv in lim.levels if lv.kind == "line")
+    p = pier_params()
+    assert p.void_width > line.max_span_widths and p.level_name == "line" and p.pier_robots >= 1
+    res = run_scenario("pier", p.robots, p.void_width, 1, check_invariants=True)
+    assert res.success and res.end_reason == "crossed"
+    assert res.robots_in_piers == p.pier_robots and res.robots_lost == 0 and not res.violations
+    kinds = [k for _t, k, _r, _d in res.events]
+    assert "pier_complete" in kinds and kinds.index("pier_complete") < kinds.index("far_ledge")
+    assert res.levels_used == ["line"]
+
+
+def test_a_pier_is_built_only_of_robots_the_swarm_found_to_have_failed():
+    res = run_scenario("pier", 20, 6, 2, check_invariants=True)
+    known = {}
+    for t, kind, r, d in res.events:
+        if kind == "fault_detected":
+            known.setdefault(r, t)
+        if kind == "pier_fetch":
+            assert d["failed"] in known and known[d["failed"]] <= t
+
+
+@pytest.mark.parametrize("why", ["no depth", "thesis limits"])
+def test_the_same_swarm_without_a_pier_retreats_at_the_span(why):
+    kw = {"void_depth_cm": 0.0} if why == "no depth" else {"limits": "thesis"}
+    res = run_scenario("pier", 20, 6, 1, check_invariants=True, **kw)
+    assert not res.success and res.end_reason == "retreated-span" and res.robots_in_piers == 0
+    assert res.robots_lost == 0
+
+
+def test_the_widest_void_is_the_records_first_span_pier_and_overhang():
+    lim = load_limits("derived")
+    k = pier_params().pier_robots
+    widest = lim.piers.max_void_for(k)
+    assert run_scenario("pier", 24, widest, 1, check_invariants=True).success
+    res = run_scenario("pier", 24, widest + 1, 1, check_invariants=True)
+    # beyond it: a second pier (if the record allows one there) or a retreat, never a fall
+    assert res.robots_lost == 0 and not res.violations
+
+
+def test_the_crossing_moves_with_the_records_overhang():
+    lim = load_limits("derived")
+    short = dataclasses.replace(lim, piers=dataclasses.replace(
+        lim.piers, overhang_widths=(1,) * 4, overhang_widths_two_piers=(0,) * 4,
+        max_void_widths=(lim.piers.first_span_widths + 2,) * 4))
+    p6 = pier_params(6, limits=short)
+    assert p6.pier_overhang_widths == 1
+    _, res = simulate(p6, 1, check=True)
+    assert res.end_reason == "retreated-span" and res.robots_lost == 0 and not res.violations
+    _, res5 = simulate(pier_params(5, limits=short), 1, check=True)
+    assert res5.success and res5.robots_in_piers >= 1
+
+
+def test_too_few_failed_robots_start_no_pier():
+    res = run_scenario("pier", 20, 6, 1, faults="0@0:drive", check_invariants=True)
+    assert res.end_reason == "retreated-span" and res.robots_in_piers == 0
+
+
+def test_a_bad_depth_is_refused():
+    with pytest.raises(InputError, match="void_depth_cm"):
+        resolve_params("pier", 20, 6, void_depth_cm=-1.0)
