@@ -154,9 +154,27 @@ class RobotProperties:
     youngs_modulus_pa: float
     connectors: tuple[ConnectorProperties, ...]
     source: str = "packaged-default"
+    #: Floor to the top face of the cover of one robot standing on its wheels and casters (a pier
+    #: of one), and what it was measured from. None: not known (a record written before it, or a
+    #: robot that cannot be stacked: no top-down coupling).
+    standing_height_m: float | None = None
+    standing_height_source: str | None = None
+    #: Cover top to cover top of two robots stacked with the top-down coupling (a pier of k robots
+    #: is ``standing_height_m + (k - 1) * stack_pitch_m`` tall), and what it was measured from.
+    #: None: not known, or the robot has no top-down coupling.
+    stack_pitch_m: float | None = None
+    stack_pitch_source: str | None = None
 
     def __post_init__(self) -> None:
         require(bool(self.name), "robot name must not be empty")
+        for name in ("standing_height", "stack_pitch"):
+            v, src = getattr(self, f"{name}_m"), getattr(self, f"{name}_source")
+            if v is None:
+                require(src is None, f"{self.name}.{name}_source is given without {name}_m")
+                continue
+            require(_finite(v) and 0 < v < 1, f"{self.name}.{name}_m must be in (0, 1) m, got {v!r}")
+            require(isinstance(src, str) and bool(src.strip()),
+                    f"{self.name}.{name}_m needs a {name}_source saying where it comes from")
         for name in ("length_m", "width_m", "height_m", "mass_kg", "density_kg_m3", "youngs_modulus_pa"):
             v = getattr(self, name)
             require(_finite(v) and v > 0, f"{self.name}.{name} must be > 0, got {v!r}")
@@ -183,6 +201,17 @@ class RobotProperties:
                 return c
         have = ", ".join(c.kind for c in self.connectors) or "none"
         raise InputError(f"robot {self.name!r} has no {kind!r} connector (has: {have})")
+
+    def pier_height_m(self, robots: int) -> float:
+        """Floor to the top cover of a pier of ``robots`` (>= 1) of these robots stacked top-down
+        (m): ``standing_height_m + (robots - 1) * stack_pitch_m``; :class:`InputError` when the
+        record has neither (an old record, or a robot that does not stack)."""
+        require(isinstance(robots, int) and not isinstance(robots, bool) and robots >= 1,
+                f"a pier needs a whole number of robots >= 1, got {robots!r}")
+        require(self.standing_height_m is not None and (robots == 1 or self.stack_pitch_m is not None),
+                f"robot {self.name!r} has no standing height / stack pitch in its record (it does not stack, "
+                "or the record predates them: re-export with `voidcross cad export`)")
+        return self.standing_height_m + (robots - 1) * (self.stack_pitch_m or 0.0)
 
     def with_connector(self, connector: ConnectorProperties) -> RobotProperties:
         """A copy with ``connector`` replacing the one of the same kind (or added)."""

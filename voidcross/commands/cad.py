@@ -3,6 +3,7 @@
 Sub-commands: ``export`` (STL/STEP/3MF per part, GLB per robot and of a CuBot bridge,
 manifest, robot_properties.json, docked pairs), ``dock`` (docked-pair gaps and interference), ``check``
 (printability of exported STLs), ``render`` (PNG of robots and docked pairs),
+``pier`` (a column of CuBots stacked top-down: heights, mass, checks, STEP/GLB),
 ``bench`` (time of a full export in a fresh process). cadquery is imported
 only when a sub-command runs.
 """
@@ -32,10 +33,12 @@ EPILOG = """examples:
   voidcross cad dock --json                       docked gap, interference and capture range of every coupling
   voidcross cad check exports/                    watertight, manifold, bed, thinnest wall, slicing
   voidcross cad render --out /tmp/img --docs      PNGs of robots, docked pairs, CuBot bridge (+ docs/img)
+  voidcross cad pier --robots 3                   a pier of 3 stacked CuBots: heights, checks, STEP + GLB
   voidcross cad bench                             time `cad export --robot all` incl. import (goal 60 s)
 """
 
 DEFAULT_OUT = "exports"
+DEFAULT_PIER_OUT = "results/cad-pier"
 BENCH_GOAL_S = 60.0
 
 
@@ -46,6 +49,21 @@ def _clearance(value: str) -> float:
         raise argparse.ArgumentTypeError(f"--clearance-mm {value!r} is not a number") from None
     if not math.isfinite(v):
         raise argparse.ArgumentTypeError(f"--clearance-mm {value!r} is not a finite number")
+    return v
+
+
+def _robots_count(value: str) -> int:
+    try:
+        return int(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--robots {value!r} is not a whole number of robots") from None
+
+
+def _lean(value: str) -> float:
+    try:
+        v = float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--lean-deg {value!r} is not a number") from None
     return v
 
 
@@ -79,7 +97,12 @@ def do_export(out: Path, robots, formats, material: str, clearance: float, with_
         raise InputError("--packaged-default needs --robot all (the packaged file lists every robot)")
     t0 = time.perf_counter()
     pairs = _docked(robots, clearance) if with_dock else None
+    stack = _stack_fields(robots, clearance, pairs)  # before anything is written
     res = export_robots(robots, out, formats, material, clearance, progress=_bar, pairs=pairs)
+    if stack:
+        from cubot_cad.pier import add_record_fields
+
+        add_record_fields(res.properties, stack)
     summary = [p.summary() for p in pairs or []]
     payload = {
         "out": str(out), "material": material.upper(), "clearance_mm": clearance, "formats": list(formats),
@@ -96,6 +119,23 @@ def do_export(out: Path, robots, formats, material: str, clearance: float, with_
         RobotPropertiesFile.load(res.properties).save(default_properties_path())
         payload["packaged_default"] = str(default_properties_path())
     return payload
+
+
+def _stack_fields(robots, clearance: float, pairs) -> dict:
+    """Standing height and stack pitch (with their sources) of every exported robot that stacks
+    (has the top-down coupling), for its properties record: the pitch from the measured docked
+    pair, or the designed one when the export runs without docking."""
+    from cubot_cad.docking import ROBOT_OF_PAIR
+    from cubot_cad.export import make_robot
+    from cubot_cad.pier import PIER_PAIR, record_fields
+
+    out = {}
+    for name in robots:
+        if ROBOT_OF_PAIR[PIER_PAIR] != name:
+            continue
+        pair = next((p for p in pairs or [] if p.name == PIER_PAIR), None)
+        out[name] = record_fields(make_robot(name, clearance), pair)
+    return out
 
 
 def run_export(args) -> int:
@@ -262,6 +302,67 @@ def run_render(args) -> int:
     return 0
 
 
+def run_pier(args) -> int:
+    """A pier of ``--robots`` CuBots stacked top-down: its numbers and checks, printed (or JSON),
+    written with a STEP and a GLB of the column to ``--out``; exit 1 when a check fails."""
+    from cubot_cad.atomic import write_json, write_via
+    from cubot_cad.export import make_robot
+    from cubot_cad.gltf import write_glb
+    from cubot_cad.part import check_clearance
+    from cubot_cad.pier import PierColumn, check_lean, check_robots
+
+    k = check_robots(args.robots, "--robots")
+    lean = check_lean(args.lean_deg, "--lean-deg")
+    check_clearance(args.clearance_mm, "--clearance-mm")
+    out_dir(args.out, create=False)  # before any work
+    col = PierColumn(make_robot("cubot", args.clearance_mm), k)
+    payload = col.summary(lean)
+    d = out_dir(args.out)
+    stem = f"pier-cubot-{k}"
+    step, glb, rec = d / f"{stem}.step", d / f"{stem}.glb", d / f"{stem}.json"
+    assy = col.assembly()
+    write_via(step, lambda p: assy.export(p, exportType="STEP"))
+    fresh = col.assembly(fresh=True)
+    write_via(glb, lambda p: write_glb(fresh, p))
+    payload["files"] = {"step": str(step), "glb": str(glb), "json": str(rec)}
+    write_json(rec, payload, allow_nan=False)
+    emit(args, payload, _pier_text(payload))
+    return 0 if payload["ok"] else 1
+
+
+def _pier_text(p: dict) -> str:
+    ch = p["checks"]
+    mark = {True: "ok  ", False: "FAIL"}
+    heights = ", ".join(f"k={k} {v:.2f}" for k, v in p["heights_mm"].items())
+    st, it, dk, rs = ch["stability"], ch["interference"], ch["docking"], ch["running_surface"]
+    lines = [
+        f"pier of {p['robots']} CuBot{'s' if p['robots'] > 1 else ''} stacked {p['coupling']} "
+        f"(clearance {p['clearance_mm']:g} mm): top cover {p['top_height_mm']:.2f} mm above the floor",
+        f"  standing height {p['standing_height_mm']:.3f} mm (floor to cover top, one robot on its wheels and "
+        f"casters), stack pitch {p['stack_pitch_mm']:.3f} mm (docked offset)",
+        f"  heights (mm): {heights}",
+        f"  mass {p['mass_kg']:.3f} kg, CoM {p['com_height_mm']:.1f} mm above the floor at "
+        f"({st['com_xy_mm'][0]:.2f}, {st['com_xy_mm'][1]:.2f}) mm; plan footprint {p['footprint']['plan_mm']} mm, "
+        f"support polygon {p['footprint']['support_polygon_mm']} mm",
+        f"  {mark[it['ok']]} interference: max {it['max_mm3']:.3f} mm^3 over {len(it['pairs'])} pair(s) in contact "
+        f"(limit {it['limit_mm3']:g})",
+        f"  {mark[dk['ok']]} docking: {dk['pair']['pair']} gap {dk['pair']['gap_mm']:.3f} mm (designed "
+        f"{dk['pair']['design_gap_mm']:g}); key holds and locks at "
+        f"{sum(r['key_holds'] and r['key_locked'] for r in dk['interfaces'])}/{len(dk['interfaces'])} interfaces"
+        + (f" ({'; '.join(dk['pair_problems'])})" if dk["pair_problems"] else ""),
+    ]
+    blocking = [q for q in rs["protrusions"] if q["blocks"]]
+    detail = "; ".join(f"{q['part']} {q['height_mm']:.2f} mm high meets "
+                       + ", ".join(m["line_part"] for m in q["meets"]) for q in blocking)
+    lines.append(f"  {mark[rs['ok']]} running surface: ground clearance of a line robot {rs['ground_clearance_mm']:.2f} mm "
+                 f"({rs['lowest_line_part']}); wheels on the cover: {'yes' if rs['wheels_on_cover'] else 'NO'}"
+                 + (f"; blocked by {detail}" if blocking else "; no protrusion in its track above that"))
+    lines.append(f"  {mark[st['ok']]} stability at {st['lean_deg']:g} deg lean: margin {st['margin_mm']:.2f} mm (CoM "
+                 f"{st['com_to_edge_mm']:.2f} mm inside the support polygon; tips at {st['tipping_deg']:.1f} deg)")
+    lines.append(f"  files: {p['files']['step']}, {p['files']['glb']}, {p['files']['json']}")
+    return "\n".join(lines)
+
+
 def run_bench(args) -> int:
     """Run `voidcross cad export --robot all` in a fresh interpreter (cadquery import included)."""
     import tempfile
@@ -383,6 +484,17 @@ def register(sub, common) -> None:
     r.add_argument("--docs", action="store_true", help="also write docs/img/")
     r.add_argument("--no-pairs", action="store_true", help="robots only")
     r.set_defaults(func=run_render)
+
+    pr = csub.add_parser("pier", parents=[common], help="a pier of CuBots stacked top-down: heights, checks, STEP/GLB",
+                         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_common(pr, robot=False)
+    pr.add_argument("--robots", type=_robots_count, required=True, metavar="K",
+                    help="how many CuBots the pier stacks (1-8)")
+    pr.add_argument("--out", default=DEFAULT_PIER_OUT,
+                    help=f"where pier-cubot-K.step, .glb and .json go (default {DEFAULT_PIER_OUT}/)")
+    pr.add_argument("--lean-deg", type=_lean, default=5.0, metavar="DEG",
+                    help="lean (or floor slope) the stability margin is given for, 0-45 deg (default 5)")
+    pr.set_defaults(func=run_pier)
 
     b = csub.add_parser("bench", parents=[common], help="time `cad export --robot all` incl. the cadquery import",
                         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)

@@ -1,0 +1,628 @@
+"""Piers of failed CuBots (issue 16): a column of robots stacked with the top-down coupling.
+
+A pier is ``k`` CuBots (1..:data:`MAX_ROBOTS`) stacked on the void floor through the
+``cubot-top-down`` coupling of :mod:`cubot_cad.docking`: robot *i + 1* stands on robot *i*'s
+cover on its wheels and casters, its cross key down through the collar and turned, the locking
+key in *i*'s cross hole. The lowest robot stands on its wheels and casters on the floor. The
+bridge line then rests on, and rolls over, the top robot's cover plate: its top face is the
+running surface, meant to be level with the ledge.
+
+Placement is the coupling's own: robot *i* sits at *i* times the measured docked offset of the
+``cubot-top-down`` pair (:func:`~cubot_cad.docking.dock_robot`), so the stack pitch is whatever
+the wheels, the cover and the key make it; nothing is re-derived here.
+
+Frame: the lowest robot's frame (mm; x forward, y left, z up, origin at the centre of its
+footprint on its underside); the floor is at ``z = -floor_depth_mm``.
+
+Numbers (all measured on the CAD):
+
+* ``floor_depth_mm``: how far the robot stands below its underside: the lower of the wheels'
+  exposed height (:attr:`~cubot_cad.robot.Robot.wheel_exposed_mm`, on the wheel solids) and the
+  caster balls' (the seats' underside less :attr:`~cubot_cad.robot.Robot.caster_exposed_mm`);
+  ``level_mm`` is how far apart the two are (0: the robot stands level on all four);
+* ``cover_top_mm``: the cover plate's top face above the underside (the largest upward planar
+  face of the placed cover, outside the collar);
+* ``standing_height_mm`` = floor depth + cover top: floor to the running surface of one robot;
+* ``stack_pitch_mm``: z of the coupling's docked offset, running surface to running surface;
+* ``top_height_mm(k)`` = standing + (k - 1) x pitch.
+
+Checks (:meth:`PierColumn.checks`):
+
+* ``interference``: every pair of robots in the column, printed parts and the bought parts'
+  stand-ins (wheels, casters, boards), in their column states, by manifold3d as
+  :mod:`cubot_cad.docking` measures pairs: <= :data:`~cubot_cad.docking.INTERFERENCE_LIMIT_MM3`;
+* ``docking``: the ``cubot-top-down`` pair passes the docking check (interference and designed
+  gap) and, at every interface, the key engages: the upper robot's turned key, lifted
+  :data:`LIFT_MM` beyond its pull-out play, runs into the lower collar's roof (> :data:`HOLD_MM3`),
+  while the same key aligned lifts out free (<= :data:`HOLD_MM3`: that is how it went in), and the
+  aligned key at the docked pose runs into the lower robot's locking key (it cannot turn back);
+* ``running_surface``: a robot of the line rolling over the top cover along x on its wheels. The
+  pier top's protrusions are the top robot's parts (no locking key: nothing docks on it) and the
+  cover screws' socket heads (stand-ins from :mod:`cubot_cad.fasteners`) above the cover plate.
+  The line robot (key aligned, wheels on the cover plate: the docked pose's height) sweeps, over
+  a full pass along x, exactly the extrusion along x of its projection on the (y, z) plane, so a
+  protrusion is in its way iff the (y, z) projections overlap (area > :data:`TOUCH_AREA_MM2`).
+  Its ground clearance is the height above the running surface of its lowest part that is not a
+  wheel or a caster ball. The check passes when no protrusion in its way is higher than that;
+* ``stability``: the column's CoM over its support polygon (convex hull of the lowest robot's
+  floor contacts: the wheels' tread lines and the caster balls' points). Leaning the column (or
+  the floor) by ``lean_deg`` in the worst direction moves the CoM's projection by
+  ``h tan(lean)`` (h: CoM height above the floor), so the margin is the CoM's distance to the
+  nearest polygon edge less ``h tan(lean)``; it tips at ``atan(distance / h)``. The interfaces are
+  locked by the turned keys and stand on the same polygon with less above them, so the floor
+  contact governs.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property, lru_cache
+
+import numpy as np
+
+from .errors import InputError
+
+PIER_PAIR = "cubot-top-down"
+MIN_ROBOTS = 1
+MAX_ROBOTS = 8
+#: Lean of the column (or slope of the void floor) the stability margin is given for by default.
+DEFAULT_LEAN_DEG = 5.0
+MAX_LEAN_DEG = 45.0
+#: A ground-contact solid within this of the lowest one stands on the floor (mm).
+CONTACT_TOL_MM = 0.05
+#: (y, z) projections that overlap by less than this only touch (mm^2): a wheel on the cover
+#: plate, the meshes' float32 rounding.
+TOUCH_AREA_MM2 = 0.05
+#: Parts reaching less than this above the running surface are not protrusions (mm).
+PROTRUSION_TOL_MM = 0.01
+#: How far beyond its pull-out play the upper robot is lifted to see whether the key holds (mm).
+LIFT_MM = 0.5
+#: A lifted turned key must overlap the collar roof by more than this to hold (mm^3).
+HOLD_MM3 = 1.0
+FLOOR_THICKNESS_MM = 5.0
+FLOOR_COLOUR = (0.42, 0.36, 0.28)
+#: Roles of the bought parts that stand on the ground.
+CONTACT_ROLES = ("wheel", "caster")
+
+
+def check_robots(k, what: str = "PierColumn.robots") -> int:
+    """A pier's robot count: an integer in MIN_ROBOTS..MAX_ROBOTS; InputError (one line) otherwise."""
+    if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or not MIN_ROBOTS <= int(k) <= MAX_ROBOTS:
+        raise InputError(f"{what} {k!r} is not a number of robots in {MIN_ROBOTS}..{MAX_ROBOTS} "
+                         f"(a pier is 1 to {MAX_ROBOTS} CuBots stacked top-down)")
+    return int(k)
+
+
+def check_lean(lean_deg, what: str = "lean_deg") -> float:
+    if isinstance(lean_deg, bool) or not isinstance(lean_deg, (int, float)) or not math.isfinite(lean_deg) \
+            or not 0 <= lean_deg < MAX_LEAN_DEG:
+        raise InputError(f"{what} {lean_deg!r} is not a lean angle in [0, {MAX_LEAN_DEG:g}) degrees")
+    return float(lean_deg)
+
+
+def _check_robot(robot) -> None:
+    from .docking import ROBOT_OF_PAIR
+
+    name = getattr(robot, "name", type(robot).__name__)
+    if name != ROBOT_OF_PAIR[PIER_PAIR]:
+        raise InputError(f"a pier stacks robots through the {PIER_PAIR} coupling; the {name} has none "
+                         "(only the cubot)")
+
+
+@lru_cache(maxsize=16)
+def top_down_pair(robot):
+    """The measured ``cubot-top-down`` pair of ``robot`` (docked once per distinct robot)."""
+    from .docking import dock, dock_robot
+    from .export import make_robot
+    from .part import DEFAULT_CLEARANCE_MM
+
+    _check_robot(robot)
+    if robot == make_robot("cubot", robot.clearance_mm):  # the default robot: share docking's own cache
+        c = robot.clearance_mm
+        return dock(PIER_PAIR) if c == DEFAULT_CLEARANCE_MM else dock(PIER_PAIR, c)
+    return dock_robot(robot, PIER_PAIR)
+
+
+# -- measurements on one robot ------------------------------------------------------------------
+
+def cover_top_mm(robot) -> float:
+    """Top face of the cover plate above the robot's underside (mm): the largest upward-facing
+    planar face of the placed cover."""
+    cover = next(p for p in robot.placed if p.role == "cover")
+    best = None
+    for f in cover.shape.Faces():
+        if f.geomType() != "PLANE" or f.normalAt().z < 1 - 1e-9:
+            continue
+        if best is None or f.Area() > best.Area():
+            best = f
+    if best is None:
+        raise RuntimeError("the cover has no upward planar face")
+    return float(best.Center().z)
+
+
+def _contact_solids(robot):
+    """(component, position, solid) of every wheel and caster ball."""
+    out = []
+    for comp in robot.components():
+        if comp.role in CONTACT_ROLES:
+            for pos, s in zip(comp.positions_mm, comp.solids(), strict=True):
+                out.append((comp, pos, s))
+    return out
+
+
+def floor_depths_mm(robot) -> dict[str, float]:
+    """How far below the underside the wheels and the caster balls reach (mm), from the CAD's
+    exposed heights: wheels = ``wheel_exposed_mm``; casters = the seats' underside less
+    ``caster_exposed_mm``."""
+    seats = [p.shape for p in robot.placed if p.role == "caster_seat"]
+    out = {"wheels": float(robot.wheel_exposed_mm)}
+    if seats:
+        from .shapes import tight_bbox
+
+        seat_bottom = min(tight_bbox(s)[2] for s in seats)
+        out["casters"] = float(robot.caster_exposed_mm - seat_bottom)
+    return out
+
+
+def support_polygon_mm(robot, floor_z_mm: float) -> list[tuple[float, float]]:
+    """Convex hull (counter-clockwise, mm, robot frame) of the robot's floor contacts: the tread
+    line of each wheel (across its width) and the point under each caster ball, for every
+    contact solid whose lowest point is within CONTACT_TOL_MM of the floor."""
+    from .shapes import tight_bbox
+
+    pts = []
+    for comp, (x, y, _z), s in _contact_solids(robot):
+        if tight_bbox(s)[2] > floor_z_mm + CONTACT_TOL_MM:
+            continue  # does not reach the floor
+        if comp.kind == "cyl_y":
+            w = comp.size_mm[1]
+            pts += [(x, y - w / 2), (x, y + w / 2)]
+        else:
+            pts.append((x, y))
+    return convex_hull(pts)
+
+
+def convex_hull(points) -> list[tuple[float, float]]:
+    """Counter-clockwise convex hull (Andrew's monotone chain)."""
+    pts = sorted(set((float(x), float(y)) for x, y in points))
+    if len(pts) < 3:
+        return pts
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower, upper = [], []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    return lower[:-1] + upper[:-1]
+
+
+def inner_distance_mm(polygon, point) -> float:
+    """Signed distance of ``point`` to the nearest edge of a CCW convex ``polygon`` (> 0 inside)."""
+    if len(polygon) < 3:
+        return -math.inf
+    px, py = point
+    d = math.inf
+    for (x0, y0), (x1, y1) in zip(polygon, polygon[1:] + polygon[:1], strict=True):
+        ex, ey = x1 - x0, y1 - y0
+        n = math.hypot(ex, ey)
+        d = min(d, (ex * (py - y0) - ey * (px - x0)) / n)  # left of the edge = inside
+    return d
+
+
+def screw_head_solids(robot) -> list:
+    """Stand-ins of the cover screws' socket heads (ISO 4762, from the fastener table) on the
+    cover plate, robot frame: the bought parts above the running surface."""
+    from .fasteners import thread
+    from .shapes import Z, cyl
+
+    t = thread(robot.top_spec.screw_size)
+    z = cover_top_mm(robot)
+    return [cyl(t.shcs_head_diameter_mm / 2, t.shcs_head_height_mm, (x, y, z), Z)
+            for x, y in robot.body.cover_screw_points()]
+
+
+def stack_numbers(robot, pair=None) -> dict:
+    """Standing height and stack pitch of ``robot`` (mm) with where each comes from.
+
+    ``pair``: the measured ``cubot-top-down`` pair (its docked offset gives the pitch); None:
+    the pitch is the designed one (cover top + the coupling's designed gap), for an export run
+    without docking."""
+    from .docking import design_gap_mm
+
+    _check_robot(robot)
+    depths = floor_depths_mm(robot)
+    depth = max(depths.values())
+    top = cover_top_mm(robot)
+    parts = " and ".join(f"{k} {v:.3f} mm" for k, v in depths.items())
+    standing = {"value_mm": depth + top,
+                "source": (f"cubot_cad CAD (clearance {robot.clearance_mm:g} mm): floor to the cover plate's top "
+                           f"face of one robot on its wheels and casters = lowest ground contact below the "
+                           f"underside ({parts}, measured on the wheel, caster-ball and seat solids) + cover "
+                           f"top {top:.3f} mm above the underside (the cover's largest upward face)")}
+    if pair is not None:
+        if pair.name != PIER_PAIR:
+            raise InputError(f"stack pitch needs the {PIER_PAIR} pair, got {pair.name}")
+        pitch = {"value_mm": float(pair.offset_mm[2]),
+                 "source": (f"cubot_cad docking: z of the measured {PIER_PAIR} docked offset (the upper robot "
+                            f"lowered onto the cover until its wheels touch, key through the collar; gap "
+                            f"{pair.gap_mm:.3f} mm, clearance {pair.clearance_mm:g} mm): cover top to cover top")}
+    else:
+        gap = float(design_gap_mm(robot, PIER_PAIR))
+        pitch = {"value_mm": top + gap,
+                 "source": (f"cubot_cad design (export without docking): cover top {top:.3f} mm + the "
+                            f"{PIER_PAIR} coupling's designed gap {gap:.3f} mm (the wheels' exposed height)")}
+    return {"standing_height": standing, "stack_pitch": pitch}
+
+
+def record_fields(robot, pair=None) -> dict:
+    """The :class:`~cubot_cad.properties.RobotProperties` fields of a stackable robot (SI)."""
+    n = stack_numbers(robot, pair)
+    return {"standing_height_m": n["standing_height"]["value_mm"] / 1000,
+            "standing_height_source": n["standing_height"]["source"],
+            "stack_pitch_m": n["stack_pitch"]["value_mm"] / 1000,
+            "stack_pitch_source": n["stack_pitch"]["source"]}
+
+
+def add_record_fields(path, fields_by_robot: dict[str, dict]):
+    """Rewrite the properties file at ``path`` (atomically) with ``fields_by_robot`` (robot name
+    -> :func:`record_fields`) set on those robots' records; returns the new file."""
+    from dataclasses import replace
+
+    from .properties import RobotPropertiesFile
+
+    pf = RobotPropertiesFile.load(path)
+    robots = tuple(replace(r, **fields_by_robot[r.name]) if r.name in fields_by_robot else r for r in pf.robots)
+    new = replace(pf, robots=robots)
+    new.save(path)
+    return new
+
+
+# -- manifold helpers ---------------------------------------------------------------------------
+
+#: (x, y, z) -> (y, z, x): a proper rotation, so that project() (onto xy) gives the (y, z) projection.
+_YZ = np.array([[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [1.0, 0.0, 0.0, 0.0]])
+
+
+def _yz_projection(m):
+    return m.transform(_YZ).project()
+
+
+@dataclass(frozen=True)
+class _Item:
+    """One solid of a robot in the column: a label, its role and its manifold (robot frame)."""
+
+    label: str
+    role: str
+    manifold: object = field(repr=False)
+    contact: bool = False
+
+
+def _robot_items(robot, key_turned: bool, with_locking_key: bool, extra=()) -> list[_Item]:
+    from .docking import manifold_of, to_manifold
+
+    items = [_Item(p.part.name, p.role, manifold_of(p))
+             for p in robot.build_placed(key_turned=key_turned, with_locking_key=with_locking_key)]
+    items += [_Item(comp.key, comp.role, to_manifold(s), comp.role in CONTACT_ROLES)
+              for comp in robot.components() for s in comp.solids()]
+    items += [_Item(label, role, to_manifold(s)) for label, role, s in extra]
+    return items
+
+
+def _shifted(items, offset):
+    t = tuple(float(v) for v in offset)
+    return [m.manifold.translate(t) for m in items]
+
+
+# -- the column ---------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class PierColumn:
+    """``robots`` CuBots stacked top-down (see the module docstring). Lengths mm, masses kg."""
+
+    robot: object
+    robots: int = 2
+    #: A measured ``cubot-top-down`` pair of this robot to stack with (None: docked here, once
+    #: per distinct robot); given, it must be that coupling's, at the robot's clearance.
+    docked: object = field(default=None, compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        _check_robot(self.robot)
+        check_robots(self.robots)
+        d = self.docked
+        if d is not None and (getattr(d, "name", None) != PIER_PAIR
+                              or getattr(d, "clearance_mm", None) != self.robot.clearance_mm):
+            raise InputError(f"PierColumn.docked must be the {PIER_PAIR} pair at clearance "
+                             f"{self.robot.clearance_mm:g} mm, got {getattr(d, 'name', d)!r}")
+
+    # -- geometry ---------------------------------------------------------------------------
+    @cached_property
+    def pair(self):
+        """The measured ``cubot-top-down`` pair the column is stacked with."""
+        return self.docked if self.docked is not None else top_down_pair(self.robot)
+
+    @cached_property
+    def offset_mm(self) -> tuple[float, float, float]:
+        """The coupling's docked offset: where robot i + 1 sits relative to robot i."""
+        return tuple(float(v) for v in self.pair.offset_mm)
+
+    @cached_property
+    def offsets_mm(self) -> tuple[tuple[float, float, float], ...]:
+        off = np.asarray(self.offset_mm)
+        return tuple(tuple(float(v) for v in off * i) for i in range(self.robots))
+
+    def state(self, i: int) -> dict[str, bool]:
+        """Connector state of robot ``i`` (0 = lowest): key turned when it stands on another robot,
+        locking key in its cross hole when another robot stands on it."""
+        return {"key_turned": i > 0, "with_locking_key": i < self.robots - 1}
+
+    def placed(self, i: int) -> list:
+        """Robot ``i``'s printed parts (:class:`~cubot_cad.robot.Placed`, its own frame)."""
+        return self.robot.build_placed(**self.state(i))
+
+    @cached_property
+    def floor_depths_mm(self) -> dict[str, float]:
+        return floor_depths_mm(self.robot)
+
+    @property
+    def floor_depth_mm(self) -> float:
+        return max(self.floor_depths_mm.values())
+
+    @property
+    def level_mm(self) -> float:
+        """How far the wheels' and the casters' lowest points differ (0: stands level on all)."""
+        d = list(self.floor_depths_mm.values())
+        return max(d) - min(d)
+
+    @cached_property
+    def cover_top_mm(self) -> float:
+        return cover_top_mm(self.robot)
+
+    @property
+    def standing_height_mm(self) -> float:
+        """Floor to the cover plate's top face of one robot standing on its wheels and casters."""
+        return self.floor_depth_mm + self.cover_top_mm
+
+    @property
+    def stack_pitch_mm(self) -> float:
+        """Cover top to cover top of two stacked robots: the coupling's docked offset (z)."""
+        return self.offset_mm[2]
+
+    def top_height_mm(self, k: int | None = None) -> float:
+        """Floor to the top robot's cover of a ``k``-robot pier (default: this one's)."""
+        k = self.robots if k is None else check_robots(k, "k")
+        return self.standing_height_mm + (k - 1) * self.stack_pitch_mm
+
+    def measured_top_height_mm(self) -> float:
+        """The same, measured on the placed column: the top robot's placed cover plate face above
+        the floor (independent of the formula)."""
+        from .shapes import location
+
+        top = next(p for p in self.placed(self.robots - 1) if p.role == "cover")
+        shape = top.part.solid.moved(location(self.offsets_mm[-1]) * top.loc)
+        z = max((f for f in shape.Faces() if f.geomType() == "PLANE" and f.normalAt().z > 1 - 1e-9),
+                key=lambda f: f.Area()).Center().z
+        return float(z) + self.floor_depth_mm
+
+    @cached_property
+    def _unit_mass(self):
+        return self.robot.mass_properties()
+
+    @property
+    def mass_kg(self) -> float:
+        return self.robots * self._unit_mass.mass_kg
+
+    @property
+    def com_mm(self) -> tuple[float, float, float]:
+        """Column CoM (column frame, mm): the robots' CoMs at their offsets (identical robots; the
+        key turned or not moves no mass that matters)."""
+        c = np.asarray(self._unit_mass.com_m) * 1000 + np.mean(np.asarray(self.offsets_mm), axis=0)
+        return tuple(float(v) for v in c)
+
+    @property
+    def com_height_mm(self) -> float:
+        """CoM height above the floor."""
+        return self.com_mm[2] + self.floor_depth_mm
+
+    @cached_property
+    def plan_footprint_mm(self) -> tuple[float, float, float, float]:
+        """(x0, y0, x1, y1) of the column seen from above (printed parts and stand-ins)."""
+        x0, y0, _, x1, y1, _ = self.robot.bbox_mm(include_components=True)
+        xs = [o[0] for o in self.offsets_mm]
+        ys = [o[1] for o in self.offsets_mm]
+        return (x0 + min(xs), y0 + min(ys), x1 + max(xs), y1 + max(ys))
+
+    @cached_property
+    def support_polygon_mm(self) -> list[tuple[float, float]]:
+        return support_polygon_mm(self.robot, -self.floor_depth_mm)
+
+    # -- checks -----------------------------------------------------------------------------
+    @cached_property
+    def _items(self) -> list[list[_Item]]:
+        cache: dict = {}
+        out = []
+        for i in range(self.robots):
+            key = tuple(self.state(i).values())
+            if key not in cache:
+                cache[key] = _robot_items(self.robot, **self.state(i))
+            out.append(cache[key])
+        return out
+
+    @cached_property
+    def interference(self) -> dict:
+        """Intersection volume (mm^3) of every pair of robots in the column whose boxes meet."""
+        from .docking import INTERFERENCE_LIMIT_MM3, _near_union, intersection_volume
+
+        rows = []
+        ms = [_shifted(items, o) for items, o in zip(self._items, self.offsets_mm, strict=True)]
+        for i in range(self.robots):
+            for j in range(i + 1, self.robots):
+                a, b = _near_union(ms[i], ms[j], [np.zeros(3)])
+                if a is None:
+                    continue
+                rows.append({"robots": [i + 1, j + 1], "interference_mm3": round(intersection_volume(a, b), 4)})
+        worst = max((r["interference_mm3"] for r in rows), default=0.0)
+        return {"pairs": rows, "max_mm3": worst, "limit_mm3": INTERFERENCE_LIMIT_MM3,
+                "ok": worst <= INTERFERENCE_LIMIT_MM3}
+
+    @cached_property
+    def docking(self) -> dict:
+        """The coupling's docking check and, at every interface, whether the key engages: the
+        turned key, lifted LIFT_MM beyond its pull-out play, runs into the collar roof (it holds);
+        the aligned key lifted as far comes out free (it went in that way); and the aligned key at
+        the docked pose runs into the locking key (the key cannot turn back)."""
+        from .docking import intersection_volume, manifold_of, union
+
+        spec = self.robot.top_spec
+        play = spec.roof_under_mm - (spec.head_z0_mm + spec.head_mm)
+        lift = play + LIFT_MM
+        aligned = next(p for p in self.robot.build_placed(key_turned=False) if p.role == "cross_key")
+        rows = []
+        for i in range(self.robots - 1):
+            lower = self.placed(i)
+            cover = union(manifold_of(p).translate(self.offsets_mm[i]) for p in lower if p.role == "cover")
+            lock = union(manifold_of(p).translate(self.offsets_mm[i]) for p in lower if p.role == "locking_key")
+            key = next(p for p in self.placed(i + 1) if p.role == "cross_key")
+            at = np.asarray(self.offsets_mm[i + 1])
+            up = tuple(at + (0.0, 0.0, lift))
+            held = intersection_volume(cover, manifold_of(key).translate(up))
+            free = intersection_volume(cover, manifold_of(aligned).translate(up))
+            back = intersection_volume(lock, manifold_of(aligned).translate(tuple(at)))
+            rows.append({"interface": [i + 1, i + 2], "lift_mm": round(lift, 3),
+                         "turned_key_lifted_into_roof_mm3": round(held, 3),
+                         "aligned_key_lifted_into_roof_mm3": round(free, 4),
+                         "aligned_key_into_locking_key_mm3": round(back, 3),
+                         "key_holds": held > HOLD_MM3 and free <= HOLD_MM3, "key_locked": back > HOLD_MM3})
+        p = self.pair
+        return {"pair": p.summary(), "pair_ok": p.ok, "pair_problems": p.problems(), "interfaces": rows,
+                "pull_out_play_mm": round(play, 3),
+                "ok": p.ok and all(r["key_holds"] and r["key_locked"] for r in rows)}
+
+    @cached_property
+    def running_surface(self) -> dict:
+        """A robot of the line rolling along x over the top cover (see the module docstring)."""
+        from .shapes import tight_bbox
+
+        r = self.robot
+        heads = [(f"cover_screw_head_{n + 1}", "screw_head", s) for n, s in enumerate(screw_head_solids(r))]
+        top_state = self.state(self.robots - 1)
+        top = _robot_items(r, **top_state, extra=heads)
+        plane = self.cover_top_mm  # running surface, top robot's frame
+        line = _robot_items(r, key_turned=False, with_locking_key=True)
+        lift = (0.0, 0.0, self.stack_pitch_mm)  # the line robot on its wheels on the cover plate
+
+        def bottom(m):
+            return m.bounding_box()[2] + lift[2] - plane
+
+        line_proj = [(it, _yz_projection(it.manifold.translate(lift)), bottom(it.manifold)) for it in line]
+        lowest, clearance = min(((it, b) for it, _, b in line_proj if not it.contact), key=lambda t: t[1])
+        protrusions = []
+        for it in top:
+            above = it.manifold.trim_by_plane((0.0, 0.0, 1.0), plane + PROTRUSION_TOL_MM)
+            if above.is_empty():
+                continue
+            h = above.bounding_box()[5] - plane
+            proj = _yz_projection(above)
+            meets = []
+            for b, bproj, b_bottom in line_proj:
+                area = (proj ^ bproj).area()
+                if area > TOUCH_AREA_MM2:
+                    meets.append({"line_part": b.label, "bottom_mm": round(b_bottom, 3), "overlap_mm2": round(area, 2)})
+            y0, _, y1, _ = proj.bounds()
+            x0, x1 = above.bounding_box()[0], above.bounding_box()[3]
+            protrusions.append({"part": it.label, "role": it.role, "height_mm": round(h, 3),
+                                "x_mm": [round(x0, 2), round(x1, 2)], "y_mm": [round(y0, 2), round(y1, 2)],
+                                "in_track": bool(meets), "meets": _merge_meets(meets),
+                                "blocks": bool(meets) and h > clearance + PROTRUSION_TOL_MM})
+        treads = [tight_bbox(s) for comp, _pos, s in _contact_solids(r) if comp.role == "wheel"]
+        cover = next(p for p in self.placed(self.robots - 1) if p.role == "cover")
+        cb = tight_bbox(cover.shape)
+        on_cover = all(cb[1] <= t[1] and t[4] <= cb[4] for t in treads)
+        blocking = [p for p in protrusions if p["blocks"]]
+        return {"running_surface_mm": round(self.top_height_mm(), 3),
+                "ground_clearance_mm": round(clearance, 3), "lowest_line_part": lowest.label,
+                "wheel_tracks_y_mm": [[round(t[1], 2), round(t[4], 2)] for t in treads],
+                "cover_y_mm": [round(cb[1], 2), round(cb[4], 2)], "wheels_on_cover": on_cover,
+                "protrusions": protrusions, "blocking": [p["part"] for p in blocking],
+                "ok": on_cover and not blocking,
+                "measured_as": ("(y, z) projections of the top robot's parts and cover-screw heads above the "
+                                "cover plate against those of a line robot on its wheels on the plate (its sweep "
+                                "along x); ground clearance = its lowest part other than wheels and caster balls")}
+
+    def stability(self, lean_deg: float = DEFAULT_LEAN_DEG) -> dict:
+        """CoM over the support polygon, and the margin left when leaning ``lean_deg`` (worst way)."""
+        lean = check_lean(lean_deg)
+        poly = self.support_polygon_mm
+        c = self.com_mm
+        d = inner_distance_mm(poly, (c[0], c[1]))
+        h = self.com_height_mm
+        margin = d - h * math.tan(math.radians(lean))
+        return {"lean_deg": lean, "com_height_mm": round(h, 3), "com_xy_mm": [round(c[0], 3), round(c[1], 3)],
+                "com_to_edge_mm": round(d, 3), "margin_mm": round(margin, 3),
+                "tipping_deg": round(math.degrees(math.atan2(d, h)), 3), "ok": margin > 0}
+
+    def checks(self, lean_deg: float = DEFAULT_LEAN_DEG) -> dict:
+        return {"interference": self.interference, "docking": self.docking,
+                "running_surface": self.running_surface, "stability": self.stability(lean_deg)}
+
+    def summary(self, lean_deg: float = DEFAULT_LEAN_DEG, checks: bool = True) -> dict:
+        """The column's numbers (mm, kg) and, with ``checks``, every check."""
+        out = {
+            "robot": self.robot.name, "robots": self.robots, "clearance_mm": self.robot.clearance_mm,
+            "coupling": PIER_PAIR, "offset_mm": [round(v, 4) for v in self.offset_mm],
+            "floor_depth_mm": {k: round(v, 4) for k, v in self.floor_depths_mm.items()},
+            "level_mm": round(self.level_mm, 4), "cover_top_mm": round(self.cover_top_mm, 4),
+            "standing_height_mm": round(self.standing_height_mm, 4),
+            "stack_pitch_mm": round(self.stack_pitch_mm, 4),
+            "top_height_mm": round(self.top_height_mm(), 4),
+            "heights_mm": {str(k): round(self.top_height_mm(k), 4) for k in range(1, self.robots + 1)},
+            "mass_kg": round(self.mass_kg, 5), "com_mm": [round(v, 3) for v in self.com_mm],
+            "com_height_mm": round(self.com_height_mm, 3),
+            "footprint": {"plan_mm": [round(v, 3) for v in self.plan_footprint_mm],
+                          "support_polygon_mm": [[round(x, 3), round(y, 3)] for x, y in self.support_polygon_mm]},
+        }
+        if checks:
+            ch = self.checks(lean_deg)
+            out["checks"] = ch
+            out["ok"] = all(v["ok"] for v in ch.values())
+        return out
+
+    # -- models -----------------------------------------------------------------------------
+    def assembly(self, fresh: bool = False, floor: bool = True):
+        """cq.Assembly of the column (robots in their column states, bought parts as stand-ins)
+        on a floor slab; ``fresh`` as in :meth:`~cubot_cad.robot.Robot.assembly` (for a GLB)."""
+        import cadquery as cq
+
+        from .shapes import box
+
+        assy = cq.Assembly(name=f"pier-{self.robot.name}-{self.robots}")
+        units: dict = {}
+        for i, o in enumerate(self.offsets_mm):
+            key = tuple(self.state(i).values())
+            if key not in units:
+                units[key] = self.robot.assembly(placed=self.placed(i), fresh=fresh, name=self.robot.name)
+            assy.add(units[key], name=f"{self.robot.name}_{i + 1}", loc=cq.Location(cq.Vector(*o)))
+        if floor:
+            x0, y0, x1, y1 = self.plan_footprint_mm
+            z = -self.floor_depth_mm
+            assy.add(box(x0 - 20, x1 + 20, y0 - 20, y1 + 20, z - FLOOR_THICKNESS_MM, z), name="void_floor",
+                     color=cq.Color(*FLOOR_COLOUR))
+        return assy
+
+
+def _merge_meets(meets: list[dict]) -> list[dict]:
+    """One row per line part (its instances merged, overlap areas summed)."""
+    out: dict[str, dict] = {}
+    for m in meets:
+        row = out.setdefault(m["line_part"], {"line_part": m["line_part"], "bottom_mm": m["bottom_mm"],
+                                               "overlap_mm2": 0.0})
+        row["bottom_mm"] = min(row["bottom_mm"], m["bottom_mm"])
+        row["overlap_mm2"] = round(row["overlap_mm2"] + m["overlap_mm2"], 2)
+    return list(out.values())
