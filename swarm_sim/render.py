@@ -96,6 +96,7 @@ class Frame:
     shell: tuple = ()                 # robots in the feet of a tapering arch (OPEN = -1 slots)
     events: tuple = ()                # the events since the previous frame (t_s, kind, robot, data)
     captions: tuple = ()              # captions of the events of the last CAPTION_S seconds
+    failed: np.ndarray | None = None  # robots that have failed (faults; drawn with a red rim)
 
 
 @dataclass
@@ -119,7 +120,8 @@ class Recorder:
                                      thesis_state(s), st.members if st else (), st.front_s_cm if st else None,
                                      s.seed_robot, st.lines * st.layers if st else 1, st.lines if st else 1,
                                      s.struct_layer.copy(), st.shell if st else (), new,
-                                     tuple(f"t={t:.1f} s  {c}" for t, c in self._recent[-3:])))
+                                     tuple(f"t={t:.1f} s  {c}" for t, c in self._recent[-3:]),
+                                     None if s.fault_flags is None else s.fault_flags != 0))
             self._next = s.t_s + self.every_s
 
 
@@ -179,6 +181,8 @@ class Renderer:
         x0, x1 = p.void_x0_cm, p.void_x1_cm
         sv.add_patch(Rectangle((0, -3 * L), x0, 3 * L, color="#c8b48a"))
         sv.add_patch(Rectangle((x1, -3 * L), p.arena_w_cm - x1, 3 * L, color="#c8b48a"))
+        if 0 < p.void_depth_cm < 3 * L:  # the void's floor, where piers stand (swarm_sim.piers)
+            sv.add_patch(Rectangle((x0, -3 * L), x1 - x0, 3 * L - p.void_depth_cm, color="#a8946a"))
         self.side = PolyCollection([], edgecolors="k", linewidths=0.5)
         sv.add_collection(self.side)
         self.free_dots = sv.scatter([], [], s=4)
@@ -202,6 +206,9 @@ class Renderer:
         ins = (f.mode == Mode.MEMBER) & (layer > 0)
         cols[ins] = cols[ins] * (1.0 - 0.22 * np.minimum(layer[ins], 3))[:, None]
         self.robots.set_facecolors(cols[order])
+        if f.failed is not None:  # failed robots: a thick red rim
+            self.robots.set_edgecolors(np.where(f.failed[order, None], _rgb("#d62728"), _rgb("#000000")))
+            self.robots.set_linewidths(np.where(f.failed[order], 1.6, 0.4))
         for t in self.texts:
             t.remove()
         self.texts = []
@@ -228,10 +235,19 @@ class Renderer:
             side.append([(left, z * H), (left + L, z * H), (left + L, (z + 1) * H), (left, (z + 1) * H)])
             scol.append("#e377c2" if over else "#9467bd")
             top = max(top, z + 1)
+        # piers: failed robots stacked on the void's floor, the lowest first (struct_layer -1, -2, ..)
+        pier = np.flatnonzero(f.mode == Mode.PIER)
+        if pier.size and p.void_depth_cm > 0:
+            hp = p.void_depth_cm / max(p.pier_robots, 1)
+            for i in pier:
+                left, lvl = float(f.x[i]) - 0.5 * L, -int(layer[i]) - 1
+                b = -p.void_depth_cm + lvl * hp
+                side.append([(left, b), (left + L, b), (left + L, b + hp), (left, b + hp)])
+                scol.append(COLOURS[Mode.PIER])
         self.side.set_verts(side)
         self.side.set_facecolors(scol)
         self.sv.set_ylim(-3 * L, max(3 * L, (top + 1) * H))
-        members = set(inside.tolist())
+        members = set(inside.tolist()) | set(pier.tolist())
         free = [i for i in range(len(f.x)) if i not in members]
         self.free_dots.set_offsets(np.c_[f.x[free], np.full(len(free), 0.5 * H)] if free else np.empty((0, 2)))
         self.free_dots.set_color([COLOURS[Mode(int(f.mode[i]))] for i in free] if free else [])

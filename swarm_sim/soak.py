@@ -46,9 +46,33 @@ def _obstacles(rng: np.random.Generator, arena_w: float, arena_h: float, x0: flo
     return out
 
 
-def draw(rng: np.random.Generator, limits: tuple = LIMITS) -> dict:
+def random_faults(rng: np.random.Generator, robots: int) -> str:
+    """A random fault spec (issue 16): rates of 1..3 modes (0.5..40 per robot per hour) and,
+    every other time, one to three robots failing at a random time in the first 300 s."""
+    from .faults import MODES
+
+    parts = [f"{m}:{float(rng.uniform(0.5, 40.0)):.3f}/h"
+             for m in rng.choice(list(MODES), size=int(rng.integers(1, 4)), replace=False)]
+    if rng.random() < 0.5:
+        for r in rng.choice(robots, size=min(robots, int(rng.integers(1, 4))), replace=False):
+            parts.append(f"{int(r)}@{float(rng.uniform(0, 300)):.2f}:{rng.choice(list(MODES))}")
+    return ",".join(parts)
+
+
+def draw(rng: np.random.Generator, limits: tuple = LIMITS, faults: bool = False) -> dict:
     """One random scenario (the keyword arguments of :func:`swarm_sim.runner.resolve_params`
-    plus ``seed``); ``limits`` the sets to draw from."""
+    plus ``seed``); ``limits`` the sets to draw from. ``faults``: the pier preset is drawn too
+    (one draw in ten) and half the draws get :func:`random_faults` (extra draws from ``rng``
+    only then: a fault-free soak draws what it always drew)."""
+    if faults:
+        if rng.random() < 0.1:
+            w = int(rng.integers(4, 9))
+            return {"preset": "pier", "robots": int(rng.integers(8, 30)), "void_width": w,
+                    "seed": int(rng.integers(0, 2**31 - 1)), "limits": str(rng.choice(list(limits)))}
+        d = draw(rng, limits)
+        if rng.random() < 0.5:
+            d["faults"] = random_faults(rng, d["robots"])
+        return d
     large = [n for n in preset_names() if n.startswith("large-void")]
     lim = str(rng.choice(list(limits)))
     if large and rng.random() < LARGE_SHARE:
@@ -99,7 +123,8 @@ def _one(d: dict, max_time_s: float | None, engine: str | None = None) -> dict:
         return {"status": "error", "error": f"{type(exc).__name__}: {exc}"}
     return {"status": "ok", "end_reason": res.end_reason, "timed_out": res.timed_out, "lost": res.robots_lost,
             "violations": list(res.violations[:3]), "t_s": res.times.get("Tt"), "steps": res.steps,
-            "hand_overs": res.hand_overs}
+            "hand_overs": res.hand_overs, "failed": len({f["robot"] for f in res.faults}),
+            "in_piers": res.robots_in_piers}
 
 
 def _star(a):
@@ -109,8 +134,9 @@ def _star(a):
 
 def soak(runs: int, seed: int = 0, max_time_s: float | None = None, limits: str | tuple = LIMITS,
          workers: int = 1, progress=lambda it, total: it, journal: str | Path | None = None,
-         engine: str | None = None) -> dict:
-    """``runs`` random whole runs (module docstring). ``limits``: ``"derived"``, ``"thesis"``,
+         engine: str | None = None, faults: bool = False) -> dict:
+    """``runs`` random whole runs (module docstring); ``faults``: with robots that fail
+    (:func:`draw`). ``limits``: ``"derived"``, ``"thesis"``,
     a path, or a tuple of them to draw from (default both); ``max_time_s``: override the
     presets' time-limit guard (None: keep it); ``workers``: processes. ``journal``: a JSON-lines
     file every finished draw is appended to; run again with the same file (and the same
@@ -138,13 +164,15 @@ def soak(runs: int, seed: int = 0, max_time_s: float | None = None, limits: str 
         except _BaseInputError as exc:
             raise InputError(str(exc)) from None
     rng = np.random.default_rng(seed)
-    draws = [draw(rng, lims) for _ in range(runs)]
+    draws = [draw(rng, lims, faults) for _ in range(runs)]
     t0 = time.perf_counter()
     report: dict = {"runs": runs, "seed": seed, "limits": list(lims), "max_time_s": max_time_s,
                     "whole_runs": True, "timeouts": 0, "n_violations": 0, "robots_lost": 0, "errors": 0,
                     "skipped_invalid": 0, "hand_overs": 0, "end_reasons": {}, "by_preset": {},
                     "violations": [], "timeout_draws": [], "error_draws": [], "simulated_s": 0.0}
     header = {"soak": 1, "runs": runs, "seed": seed, "limits": list(lims), "max_time_s": max_time_s}
+    if faults:
+        header["faults"] = True
     done, earlier_wall, codes = _read_journal(Path(journal), header) if journal is not None else ({}, 0.0, [])
     outs = dict(done)
     todo = [i for i in range(runs) if i not in done]
@@ -280,6 +308,8 @@ def _tally(report: dict, d: dict, out: dict) -> None:
         report["timeout_draws"].append(d)
     report["robots_lost"] += out["lost"]
     report["hand_overs"] += out["hand_overs"]
+    report["robots_failed"] = report.get("robots_failed", 0) + out.get("failed", 0)
+    report["robots_in_piers"] = report.get("robots_in_piers", 0) + out.get("in_piers", 0)
     report["simulated_s"] += out["t_s"] or 0.0
     for v in out["violations"]:
         report["n_violations"] += 1

@@ -133,3 +133,11 @@ def test_cli_reports_failures_and_refuses_a_bad_spec(cli):
     assert d["robots_failed"] == len({f["robot"] for f in d["faults"]}) > 0 and d["faults_spec"] == "drive:20/h"
     bad = cli("sim", "run", "--faults", "drive:fast/h")
     assert bad.code == 2 and "'fast'" in bad.err and len(bad.error_lines) == 1
+
+
+@pytest.mark.parametrize("faults", ["drive:20/h", "3@40:total,5@41:sensor"])
+def test_both_engines_give_the_same_run_with_faults(faults):
+    a = run_scenario("case-d", 12, 3, 6, faults=faults, engine="reference").to_dict(events=True)
+    b = run_scenario("case-d", 12, 3, 6, faults=faults, engine="compiled").to_dict(events=True)
+    a.pop("wall_s"), b.pop("wall_s")
+    assert a == b

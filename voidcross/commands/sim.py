@@ -203,7 +203,8 @@ def soak(args: argparse.Namespace) -> int:
         out_file(args.journal, "--journal")
     limits = LIMITS if args.limits == "both" else (args.limits,)
     rep = do_soak(args.runs, seed=args.seed, max_time_s=args.max_time, limits=limits, workers=args.workers,
-                  progress=lambda it, n: progress(it, "soak", n), journal=args.journal, engine=engine)
+                  progress=lambda it, n: progress(it, "soak", n), journal=args.journal, engine=engine,
+                  faults=args.faults)
     guard = "the presets' time-limit guards" if args.max_time is None else f"capped at {args.max_time:g} s"
     reasons = ", ".join(f"{k} {v}" for k, v in sorted(rep["end_reasons"].items())) or "none"
     resumed = f" ({rep['resumed_runs']} from the journal, {rep['wall_s_total']:.0f} s wall in all)" \
@@ -213,7 +214,9 @@ def soak(args: argparse.Namespace) -> int:
     human = (f"{rep['runs']} randomised whole runs (limits {', '.join(rep['limits'])}; {guard}) in "
              f"{rep['wall_s']:.0f} s wall{resumed}: {rep['timeouts']} timeouts, {rep['n_violations']} invariant violations, "
              f"{rep['robots_lost']} robots lost, {rep['errors']} runs raised, {rep['skipped_invalid']} draws "
-             f"rejected as invalid input\nended: {reasons}; {rep['hand_overs']} recruits handed over")
+             f"rejected as invalid input\nended: {reasons}; {rep['hand_overs']} recruits handed over"
+             + (f"; {rep.get('robots_failed', 0)} robots failed, {rep.get('robots_in_piers', 0)} built into piers"
+                if args.faults else ""))
     for v in (rep["violations"][:10] + rep["timeout_draws"][:10] + rep["error_draws"][:10]):
         human += f"\n  {v}"
     emit(args, rep, human)
@@ -321,6 +324,9 @@ def register(sub, common) -> None:
                    help="append every finished draw to FILE (JSON lines); the same command again resumes "
                         "from it (long soaks in slices)")
     s.add_argument("--engine", default=None, help=ENGINE_HELP)
+    s.add_argument("--faults", action="store_true",
+                   help="robots that fail: half the draws get random fault rates and schedules, the pier "
+                        "preset is drawn too (runs with faults use the reference engine)")
     s.set_defaults(func=soak)
 
     b = ss.add_parser("bench", parents=[common], help="exploration-only throughput and scaling",
