@@ -48,8 +48,11 @@ def start_fill_near(tk: Tick, g: T.ShellGeometry) -> None:
     """Call the closest free robots (by path) to the next group of near-foot columns."""
     free = candidates(tk)
     cols = T.next_fill_group(tk.st.shell, g, T.NEAR)[:free.size]
+    known = int(tk.known.sum()) if tk.known is not None else 0
     chosen = answering(tk, [_staging_field(tk, g, c) for c in cols], list(free))
     if not chosen:
+        if tk.known is not None and int(tk.known.sum()) > known:
+            return  # those called answered that they failed: decide again, knowing it
         start_retreat(tk, "stalled")
         return
     cols = cols[:len(chosen)]

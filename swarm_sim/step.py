@@ -166,11 +166,17 @@ def move_structure(tk: Tick) -> None:
 # ---------------------------------------------------------------------------- 4. decide and act
 
 def _recruit(tk: Tick, ctx: dict) -> None:
+    known = int(tk.known.sum()) if tk.known is not None else 0
     chosen = RC.call(tk, ctx["slots"])
+    learnt = tk.known is not None and int(tk.known.sum()) > known
     if not chosen:  # free robots exist, none can reach the dock: the structure cannot proceed
+        if learnt:
+            return  # those called answered that they failed: decide again, knowing it
         RT.start_retreat(tk, "stalled", ctx["sit"].counts, ctx["free"])
     elif len(chosen) < len(ctx["slots"]) and not S.filling(tk.st):
         RC.call_off(tk)  # a row is recruited whole: it cannot be completed
+        if learnt:
+            return
         RT.start_retreat(tk, "stalled", ctx["sit"].counts, ctx["free"])
 
 
