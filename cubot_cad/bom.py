@@ -12,7 +12,10 @@ Three kinds of rows (``category``):
   D-shafts, :meth:`~cubot_cad.robot.Robot.drive_parts`) are listed too;
 * ``fastener``: screws, nuts and heat-set inserts from :meth:`~cubot_cad.robot.Robot.fasteners`,
   sized from the ISO table (:mod:`cubot_cad.fasteners`), one row per kind, size and length,
-  with where they go.
+  with where they go;
+* ``pier``: what a pier of these robots needs once, not per robot (the CuBot: the printed
+  :class:`~cubot_cad.deck.PierDeck` the top robot wears, its cross key, which is the robot's own
+  ``cross_key`` part, and the key flange's screws), quantities per pier.
 """
 
 from __future__ import annotations
@@ -32,21 +35,33 @@ def _size_text(c) -> str:
     return f"diameter {c.size_mm[0]:g} mm"
 
 
+def _printed_row(robot, part, qty, density_kg_m3, printed_sizes_mm, category="printed", where="",
+                 description=None) -> dict:
+    size = (printed_sizes_mm or {}).get(part.name)
+    if size is None:
+        from .shapes import tight_bbox
+
+        b = tight_bbox(part.printable)
+        size = [b[3] - b[0], b[4] - b[1], b[5] - b[2]]
+    return {"robot": robot.name, "category": category, "item": part.name,
+            "description": part.description if description is None else description,
+            "size": " x ".join(f"{v:.1f}" for v in size) + " mm (as printed)", "quantity": qty,
+            "unit_mass_g": round(part.volume_mm3 * 1e-9 * density_kg_m3 * 1e3, 2),
+            "file": f"{robot.name}/{part.name}.stl", "where": where}
+
+
+def _fastener_item(kind: str, size: str, length: float) -> str:
+    return f"{size} {kind}" if kind in ("insert", "ISO 4032") else f"{size}x{length:g} {kind}"
+
+
+def _fastener_size(kind: str, size: str, length: float) -> str:
+    return f"{size}" + ("" if kind in ("insert", "ISO 4032") else f" x {length:g} mm")
+
+
 def bom_rows(robot, density_kg_m3: float, printed_sizes_mm: dict | None = None) -> list[dict]:
     """The BOM rows of ``robot`` (printed parts at ``density_kg_m3``; ``printed_sizes_mm``: part name ->
     as-printed size, else the part's own bounding box)."""
-    rows = []
-    for part, qty in robot.printable_parts():
-        size = (printed_sizes_mm or {}).get(part.name)
-        if size is None:
-            from .shapes import tight_bbox
-
-            b = tight_bbox(part.printable)
-            size = [b[3] - b[0], b[4] - b[1], b[5] - b[2]]
-        rows.append({"robot": robot.name, "category": "printed", "item": part.name, "description": part.description,
-                     "size": " x ".join(f"{v:.1f}" for v in size) + " mm (as printed)", "quantity": qty,
-                     "unit_mass_g": round(part.volume_mm3 * 1e-9 * density_kg_m3 * 1e3, 2),
-                     "file": f"{robot.name}/{part.name}.stl", "where": ""})
+    rows = [_printed_row(robot, part, qty, density_kg_m3, printed_sizes_mm) for part, qty in robot.printable_parts()]
     for c in robot.components():
         if c.key == "fasteners":
             continue  # a mass lump in the component table; the fastener rows below list the real ones
@@ -65,10 +80,29 @@ def bom_rows(robot, density_kg_m3: float, printed_sizes_mm: dict | None = None) 
         agg[key]["where"].append(f"{u.count} {u.where}")
     for (kind, size, length), a in agg.items():
         u = a["use"]
-        item = f"{size} {kind}" if kind in ("insert", "ISO 4032") else f"{size}x{length:g} {kind}"
-        rows.append({"robot": robot.name, "category": "fastener", "item": item, "description": u.description,
-                     "size": f"{size}" + ("" if kind in ("insert", "ISO 4032") else f" x {length:g} mm"),
+        rows.append({"robot": robot.name, "category": "fastener", "item": _fastener_item(kind, size, length),
+                     "description": u.description, "size": _fastener_size(kind, size, length),
                      "quantity": a["count"], "unit_mass_g": "", "file": "", "where": "; ".join(a["where"])})
+    return rows + pier_rows(robot, density_kg_m3, printed_sizes_mm)
+
+
+def pier_rows(robot, density_kg_m3: float, printed_sizes_mm: dict | None = None) -> list[dict]:
+    """The ``pier`` rows: per pier of ``robot``, the deck, its cross key and the key's screws (none for
+    a robot that does not stack)."""
+    from .deck import pier_parts
+
+    rows = []
+    for deck, qty in pier_parts(robot):
+        rows.append(_printed_row(robot, deck, qty, density_kg_m3, printed_sizes_mm, "pier",
+                                 "one per pier: docked on the top robot's cover (the line rolls over it)"))
+        rows.append(_printed_row(robot, deck.key_part, qty, density_kg_m3, printed_sizes_mm, "pier",
+                                 f"under the {deck.name}, turned {deck.spec.twist_deg:g} deg clockwise",
+                                 f"the deck's cross key: the robot's own part (same STL), "
+                                 f"{deck.key.description}"))
+        for u in deck.screws():
+            rows.append({"robot": robot.name, "category": "pier", "item": _fastener_item(u.kind, u.size, u.length_mm),
+                         "description": u.description, "size": _fastener_size(u.kind, u.size, u.length_mm),
+                         "quantity": u.count * qty, "unit_mass_g": "", "file": "", "where": u.where})
     return rows
 
 

@@ -8,7 +8,8 @@ Layout under the output directory::
     robot_properties.json         RobotPropertiesFile of the exported robots
     <robot>/<part>.stl            binary STL, mm, oriented flat (z >= 0)
     <robot>/<part>.3mf            with --format 3mf
-    <robot>/bom.csv               bill of materials: printed parts, bought parts, ISO fasteners
+    <robot>/pier_deck.stl         (CuBot) the deck a pier's top robot wears, one per pier (cubot_cad.deck)
+    <robot>/bom.csv               bill of materials: printed parts, bought parts, ISO fasteners, pier parts
     <robot>.step                  STEP assembly (printed parts + stand-ins for bought parts)
     <robot>.glb                   GLB (binary glTF 2.0, metres, +Y up) of the assembled robot
     bridge-cubot-line.glb         GLB of five docked CuBots spanning a void (with cubot and glb)
@@ -32,7 +33,7 @@ import secrets
 import shutil
 import time
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from pathlib import Path
 
@@ -202,6 +203,8 @@ class PartRecord:
     fits_bed: bool
     extra_files: list[str] = field(default_factory=list)
     print_settings: dict = field(default_factory=dict)
+    #: What ``quantity`` counts: per ``robot``, or per ``pier`` (the pier deck).
+    per: str = "robot"
 
 
 @dataclass
@@ -252,11 +255,14 @@ def export_robots(robots: Iterable[str], out: str | os.PathLike, formats: Iterab
 
 def _write_export(out: Path, models: dict, formats: tuple, material_name: str, mat: dict, clearance_mm: float,
                   progress, gaps, pairs) -> dict:
-    jobs = [(name, part, qty) for name, r in models.items() for part, qty in r.printable_parts()]
+    from .deck import pier_parts
+
+    jobs = [(name, part, qty, "robot") for name, r in models.items() for part, qty in r.printable_parts()]
+    jobs += [(name, part, qty, "pier") for name, r in models.items() for part, qty in pier_parts(r)]
     it = progress(jobs, "cad export", len(jobs)) if progress else jobs
     records: list[PartRecord] = []
     rho = mat["density_kg_m3"]
-    for name, part, qty in it:
+    for name, part, qty, per in it:
         shape = part.printable
         mesh = mesh_of(shape)
         rel = f"{name}/{part.name}.stl"
@@ -285,7 +291,7 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
             mass_g=round(part.volume_mm3 * 1e-9 * rho * 1e3, 4),
             watertight=bool(mesh.is_watertight and mesh.is_volume),
             fits_bed=all(s <= b for s, b in zip(size, bed, strict=True)), extra_files=extra,
-            print_settings=part.print_settings()))
+            print_settings=part.print_settings(), per=per))
     step_files = []
     if "step" in formats:
         for name, r in models.items():
@@ -307,6 +313,10 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
     for name, r in models.items():
         props[name] = r.robot_properties(material_name, source=source) if not gaps or name not in gaps else \
             _with_gaps(r, material_name, source, gaps[name])
+    from .pier import stack_fields
+
+    # standing height, stack pitch and deck height of the robots that stack (measured when docked)
+    props = {n: replace(p, **stack_fields(models[n], pairs)) for n, p in props.items()}
     pfile = RobotPropertiesFile(robots=tuple(props.values()))
     pfile.save(out / "robot_properties.json")
     robots_summary = {}

@@ -4,8 +4,11 @@ A pier is ``k`` CuBots (1..:data:`MAX_ROBOTS`) stacked on the void floor through
 ``cubot-top-down`` coupling of :mod:`cubot_cad.docking`: robot *i + 1* stands on robot *i*'s
 cover on its wheels and casters, its cross key down through the collar and turned, the locking
 key in *i*'s cross hole. The lowest robot stands on its wheels and casters on the floor. The
-bridge line then rests on, and rolls over, the top robot's cover plate: its top face is the
-running surface, meant to be level with the ledge.
+bridge line rests on, and rolls over, the top of the pier, meant to be level with the ledge. A bare
+cover plate cannot be rolled over (the collar and the cover screws' heads stand in the line robot's
+track: ``PierColumn(..., deck=False)`` shows it), so the top robot wears a printed
+:class:`~cubot_cad.deck.PierDeck` (default ``deck=True``), docked on its cover through the same
+coupling: the deck's top is the running surface.
 
 Placement is the coupling's own: robot *i* sits at *i* times the measured docked offset of the
 ``cubot-top-down`` pair (:func:`~cubot_cad.docking.dock_robot`), so the stack pitch is whatever
@@ -24,7 +27,10 @@ Numbers (all measured on the CAD):
   face of the placed cover, outside the collar);
 * ``standing_height_mm`` = floor depth + cover top: floor to the running surface of one robot;
 * ``stack_pitch_mm``: z of the coupling's docked offset, running surface to running surface;
-* ``top_height_mm(k)`` = standing + (k - 1) x pitch.
+* ``top_height_mm(k)`` = standing + (k - 1) x pitch: floor to the top robot's cover;
+* ``deck_height_mm``: the top cover to the running deck, measured on the deck docked on the top
+  robot (:func:`~cubot_cad.deck.dock_deck`); ``running_surface_mm(k)`` = ``top_height_mm(k)`` +
+  ``deck_height_mm`` (the cover itself without a deck).
 
 Checks (:meth:`PierColumn.checks`):
 
@@ -36,14 +42,25 @@ Checks (:meth:`PierColumn.checks`):
   :data:`LIFT_MM` beyond its pull-out play, runs into the lower collar's roof (> :data:`HOLD_MM3`),
   while the same key aligned lifts out free (<= :data:`HOLD_MM3`: that is how it went in), and the
   aligned key at the docked pose runs into the lower robot's locking key (it cannot turn back);
-* ``running_surface``: a robot of the line rolling over the top cover along x on its wheels. The
-  pier top's protrusions are the top robot's parts (no locking key: nothing docks on it) and the
-  cover screws' socket heads (stand-ins from :mod:`cubot_cad.fasteners`) above the cover plate.
-  The line robot (key aligned, wheels on the cover plate: the docked pose's height) sweeps, over
-  a full pass along x, exactly the extrusion along x of its projection on the (y, z) plane, so a
-  protrusion is in its way iff the (y, z) projections overlap (area > :data:`TOUCH_AREA_MM2`).
-  Its ground clearance is the height above the running surface of its lowest part that is not a
-  wheel or a caster ball. The check passes when no protrusion in its way is higher than that;
+* ``deck`` (with a deck, under ``docking``): the deck docks on the top robot's collar
+  (:class:`~cubot_cad.deck.DeckDock`: it stands on its ring at the coupling's stance, turns from
+  open to square touching nothing, does not interfere with the locking key in, its key holds
+  and is locked);
+* ``running_surface``: a robot of the line rolling along x on its wheels over the pier top: the
+  deck's top or, without a deck, the top cover. The protrusions are the top robot's parts
+  (the locking key only with a deck: otherwise nothing docks on it), the cover screws' socket
+  heads (stand-ins from :mod:`cubot_cad.fasteners`) and the deck with its key and screw heads,
+  whatever reaches above the running surface. The line robot (key aligned, wheels on the
+  running surface) sweeps, over a full pass along x, exactly the extrusion along x of its
+  projection on the (y, z) plane, so a protrusion is in its way iff the (y, z) projections
+  overlap (area > :data:`TOUCH_AREA_MM2`). Its ground clearance is the height above the running
+  surface of its lowest part that is not a wheel or a caster ball. The check passes when no
+  protrusion in its way is higher than that (``clearance_margin_mm``: the clearance less the
+  highest protrusion in its way, 0 when none), its wheels run on the surface, and, with a deck,
+  the deck's end chamfers (measured on the solid) are no steeper than the robot climbs
+  (:func:`~cubot_cad.deck.climb_limit_deg`) and no deeper than its ground clearance
+  (``arrival_margin_mm``: a robot arriving that low meets the deck's end with its wheels and
+  caster balls only);
 * ``stability``: the column's CoM over its support polygon (convex hull of the lowest robot's
   floor contacts: the wheels' tread lines and the caster balls' points). Leaning the column (or
   the floor) by ``lean_deg`` in the worst direction moves the CoM's projection by
@@ -229,12 +246,14 @@ def screw_head_solids(robot) -> list:
             for x, y in robot.body.cover_screw_points()]
 
 
-def stack_numbers(robot, pair=None) -> dict:
-    """Standing height and stack pitch of ``robot`` (mm) with where each comes from.
+def stack_numbers(robot, pair=None, deck_dock=None) -> dict:
+    """Standing height, stack pitch and deck height of ``robot`` (mm) with where each comes from.
 
-    ``pair``: the measured ``cubot-top-down`` pair (its docked offset gives the pitch); None:
-    the pitch is the designed one (cover top + the coupling's designed gap), for an export run
-    without docking."""
+    ``pair``: the measured ``cubot-top-down`` pair (its docked offset gives the pitch, and the
+    deck is docked too: ``deck_dock``, or docked here); None: the pitch and the deck height are
+    the designed ones (cover top + the coupling's designed gap; the deck's stance + plate), for an
+    export run without docking."""
+    from .deck import deck_height_numbers, dock_deck
     from .docking import design_gap_mm
 
     _check_robot(robot)
@@ -259,16 +278,28 @@ def stack_numbers(robot, pair=None) -> dict:
         pitch = {"value_mm": top + gap,
                  "source": (f"cubot_cad design (export without docking): cover top {top:.3f} mm + the "
                             f"{PIER_PAIR} coupling's designed gap {gap:.3f} mm (the wheels' exposed height)")}
-    return {"standing_height": standing, "stack_pitch": pitch}
+    docked = deck_dock if deck_dock is not None else (dock_deck(robot) if pair is not None else None)
+    if docked is not None and not docked.ok:  # as a failing docked pair: no measured number from it
+        raise InputError(f"--clearance-mm {robot.clearance_mm:g}: the {docked.deck.name} fails to dock on the "
+                         f"{robot.name} ({'; '.join(docked.problems())}); nothing written")
+    return {"standing_height": standing, "stack_pitch": pitch, "deck_height": deck_height_numbers(robot, docked)}
 
 
-def record_fields(robot, pair=None) -> dict:
+def record_fields(robot, pair=None, deck_dock=None) -> dict:
     """The :class:`~cubot_cad.properties.RobotProperties` fields of a stackable robot (SI)."""
-    n = stack_numbers(robot, pair)
-    return {"standing_height_m": n["standing_height"]["value_mm"] / 1000,
-            "standing_height_source": n["standing_height"]["source"],
-            "stack_pitch_m": n["stack_pitch"]["value_mm"] / 1000,
-            "stack_pitch_source": n["stack_pitch"]["source"]}
+    n = stack_numbers(robot, pair, deck_dock)
+    return {f"{k}_{u}": (v["value_mm"] / 1000 if u == "m" else v["source"])
+            for k, v in n.items() for u in ("m", "source")}
+
+
+def stack_fields(robot, pairs=None) -> dict:
+    """:func:`record_fields` of ``robot`` when it stacks (has the top-down coupling), measured with
+    its ``cubot-top-down`` pair when ``pairs`` holds it (designed otherwise); {} for the others."""
+    from .docking import ROBOT_OF_PAIR
+
+    if getattr(robot, "name", None) != ROBOT_OF_PAIR[PIER_PAIR]:
+        return {}
+    return record_fields(robot, next((p for p in pairs or [] if p.name == PIER_PAIR), None))
 
 
 def add_record_fields(path, fields_by_robot: dict[str, dict]):
@@ -332,6 +363,9 @@ class PierColumn:
     #: A measured ``cubot-top-down`` pair of this robot to stack with (None: docked here, once
     #: per distinct robot); given, it must be that coupling's, at the robot's clearance.
     docked: object = field(default=None, compare=False, repr=False)
+    #: The running deck on the top robot: True (the robot's default
+    #: :class:`~cubot_cad.deck.PierDeck`), a PierDeck, or False (the bare top cover).
+    deck: object = True
 
     def __post_init__(self) -> None:
         _check_robot(self.robot)
@@ -341,6 +375,68 @@ class PierColumn:
                               or getattr(d, "clearance_mm", None) != self.robot.clearance_mm):
             raise InputError(f"PierColumn.docked must be the {PIER_PAIR} pair at clearance "
                              f"{self.robot.clearance_mm:g} mm, got {getattr(d, 'name', d)!r}")
+        from .deck import PierDeck
+
+        if isinstance(self.deck, PierDeck):
+            self.deck.check_fits(self.robot)
+        elif not isinstance(self.deck, bool):
+            raise InputError(f"PierColumn.deck must be True, False or a PierDeck, got {self.deck!r}")
+
+    # -- the deck ---------------------------------------------------------------------------
+    @cached_property
+    def deck_part(self):
+        """The :class:`~cubot_cad.deck.PierDeck` on the top robot (None: a bare top cover)."""
+        from .deck import default_deck
+
+        if self.deck is False:
+            return None
+        return default_deck(self.robot) if self.deck is True else self.deck
+
+    @cached_property
+    def deck_dock(self):
+        """The deck docked on the top robot's cover (:class:`~cubot_cad.deck.DeckDock`), or None."""
+        from .deck import dock_deck
+
+        return None if self.deck_part is None else dock_deck(self.robot, self.deck_part)
+
+    @property
+    def deck_offset_mm(self) -> tuple[float, float, float] | None:
+        """Where the deck frame sits in the column frame (None without a deck)."""
+        if self.deck_dock is None:
+            return None
+        return tuple(float(a + b) for a, b in zip(self.offsets_mm[-1], self.deck_dock.offset_mm, strict=True))
+
+    @property
+    def deck_height_mm(self) -> float | None:
+        """Top cover to the running deck (measured on the docked deck); None without a deck."""
+        return None if self.deck_dock is None else self.deck_dock.deck_height_mm
+
+    def running_surface_mm(self, k: int | None = None) -> float:
+        """Floor to the running surface of a ``k``-robot pier (default: this one's): the deck's top,
+        ``top_height_mm(k) + deck_height_mm``, or the top cover without a deck."""
+        return self.top_height_mm(k) + (self.deck_height_mm or 0.0)
+
+    def measured_running_surface_mm(self) -> float:
+        """The same, measured on the placed column: the placed deck's top face (or the top cover's)
+        above the floor."""
+        if self.deck_dock is None:
+            return self.measured_top_height_mm()
+        from .deck import top_face_z_mm
+        from .shapes import location
+
+        return top_face_z_mm(self.deck_part.solid.moved(location(self.deck_offset_mm))) + self.floor_depth_mm
+
+    def _deck_items(self, offset=(0.0, 0.0, 0.0)) -> list[_Item]:
+        """The deck, its key and its screw heads (deck frame, shifted by ``offset``)."""
+        from .docking import manifold_of, to_manifold
+
+        t = tuple(float(v) for v in offset)
+        d = self.deck_part
+        items = [_Item(p.part.name, p.role if p.role == "deck" else "deck_key", manifold_of(p).translate(t))
+                 for p in d.placed()]
+        items += [_Item(f"deck_screw_head_{n + 1}", "screw_head", to_manifold(h).translate(t))
+                  for n, h in enumerate(d.screw_head_solids())]
+        return items
 
     # -- geometry ---------------------------------------------------------------------------
     @cached_property
@@ -360,8 +456,8 @@ class PierColumn:
 
     def state(self, i: int) -> dict[str, bool]:
         """Connector state of robot ``i`` (0 = lowest): key turned when it stands on another robot,
-        locking key in its cross hole when another robot stands on it."""
-        return {"key_turned": i > 0, "with_locking_key": i < self.robots - 1}
+        locking key in its cross hole when another robot or the deck stands on it."""
+        return {"key_turned": i > 0, "with_locking_key": i < self.robots - 1 or self.deck_part is not None}
 
     def placed(self, i: int) -> list:
         """Robot ``i``'s printed parts (:class:`~cubot_cad.robot.Placed`, its own frame)."""
@@ -415,16 +511,28 @@ class PierColumn:
     def _unit_mass(self):
         return self.robot.mass_properties()
 
+    @cached_property
+    def deck_mass_kg(self) -> float:
+        """The printed deck and its cross key (solid, ABS as the robots' mass); 0 without a deck."""
+        from .part import material
+
+        return 0.0 if self.deck_part is None else self.deck_part.mass_kg(material("abs")["density_kg_m3"])
+
     @property
     def mass_kg(self) -> float:
-        return self.robots * self._unit_mass.mass_kg
+        return self.robots * self._unit_mass.mass_kg + self.deck_mass_kg
 
     @property
     def com_mm(self) -> tuple[float, float, float]:
         """Column CoM (column frame, mm): the robots' CoMs at their offsets (identical robots; the
-        key turned or not moves no mass that matters)."""
-        c = np.asarray(self._unit_mass.com_m) * 1000 + np.mean(np.asarray(self.offsets_mm), axis=0)
-        return tuple(float(v) for v in c)
+        key turned or not moves no mass that matters) and the deck's."""
+        m = self._unit_mass.mass_kg
+        c = (np.asarray(self._unit_mass.com_m) * 1000 + np.mean(np.asarray(self.offsets_mm), axis=0))
+        if self.deck_part is None:
+            return tuple(float(v) for v in c)
+        md = self.deck_mass_kg
+        cd = np.asarray(self.deck_part.assembly_com_mm()) + np.asarray(self.deck_offset_mm)
+        return tuple(float(v) for v in (self.robots * m * c + md * cd) / (self.robots * m + md))
 
     @property
     def com_height_mm(self) -> float:
@@ -437,7 +545,12 @@ class PierColumn:
         x0, y0, _, x1, y1, _ = self.robot.bbox_mm(include_components=True)
         xs = [o[0] for o in self.offsets_mm]
         ys = [o[1] for o in self.offsets_mm]
-        return (x0 + min(xs), y0 + min(ys), x1 + max(xs), y1 + max(ys))
+        out = [x0 + min(xs), y0 + min(ys), x1 + max(xs), y1 + max(ys)]
+        if self.deck_part is not None:
+            b, o = self.deck_part.bbox_mm, self.deck_offset_mm
+            out = [min(out[0], b[0] + o[0]), min(out[1], b[1] + o[1]), max(out[2], b[3] + o[0]),
+                   max(out[3], b[4] + o[1])]
+        return tuple(out)
 
     @cached_property
     def support_polygon_mm(self) -> list[tuple[float, float]]:
@@ -457,17 +570,22 @@ class PierColumn:
 
     @cached_property
     def interference(self) -> dict:
-        """Intersection volume (mm^3) of every pair of robots in the column whose boxes meet."""
+        """Intersection volume (mm^3) of every pair of robots in the column (and the deck, named
+        ``"deck"``) whose boxes meet."""
         from .docking import INTERFERENCE_LIMIT_MM3, _near_union, intersection_volume
 
         rows = []
         ms = [_shifted(items, o) for items, o in zip(self._items, self.offsets_mm, strict=True)]
-        for i in range(self.robots):
-            for j in range(i + 1, self.robots):
+        names: list = list(range(1, self.robots + 1))
+        if self.deck_part is not None:
+            ms.append([it.manifold for it in self._deck_items(self.deck_offset_mm)])
+            names.append("deck")
+        for i in range(len(ms)):
+            for j in range(i + 1, len(ms)):
                 a, b = _near_union(ms[i], ms[j], [np.zeros(3)])
                 if a is None:
                     continue
-                rows.append({"robots": [i + 1, j + 1], "interference_mm3": round(intersection_volume(a, b), 4)})
+                rows.append({"robots": [names[i], names[j]], "interference_mm3": round(intersection_volume(a, b), 4)})
         worst = max((r["interference_mm3"] for r in rows), default=0.0)
         return {"pairs": rows, "max_mm3": worst, "limit_mm3": INTERFERENCE_LIMIT_MM3,
                 "ok": worst <= INTERFERENCE_LIMIT_MM3}
@@ -501,30 +619,47 @@ class PierColumn:
                          "aligned_key_into_locking_key_mm3": round(back, 3),
                          "key_holds": held > HOLD_MM3 and free <= HOLD_MM3, "key_locked": back > HOLD_MM3})
         p = self.pair
+        deck = None if self.deck_dock is None else self.deck_dock.summary()
         return {"pair": p.summary(), "pair_ok": p.ok, "pair_problems": p.problems(), "interfaces": rows,
-                "pull_out_play_mm": round(play, 3),
-                "ok": p.ok and all(r["key_holds"] and r["key_locked"] for r in rows)}
+                "pull_out_play_mm": round(play, 3), "deck": deck,
+                "ok": p.ok and all(r["key_holds"] and r["key_locked"] for r in rows)
+                and (deck is None or deck["ok"])}
 
     @cached_property
     def running_surface(self) -> dict:
-        """A robot of the line rolling along x over the top cover (see the module docstring)."""
-        from .shapes import tight_bbox
+        """A robot of the line rolling along x over the pier top: the deck's top, or the bare top
+        cover without a deck (see the module docstring)."""
+        from .shapes import location, tight_bbox
 
         r = self.robot
         heads = [(f"cover_screw_head_{n + 1}", "screw_head", s) for n, s in enumerate(screw_head_solids(r))]
         top_state = self.state(self.robots - 1)
-        top = _robot_items(r, **top_state, extra=heads)
-        plane = self.cover_top_mm  # running surface, top robot's frame
+        top = _robot_items(r, **top_state, extra=heads)  # the top robot's frame
+        deck = self.deck_dock
+        if deck is None:
+            plane = self.cover_top_mm  # running surface, top robot's frame
+            cover = next(p for p in self.placed(self.robots - 1) if p.role == "cover")
+            sb = tight_bbox(cover.shape)
+            surface = "top cover"
+        else:
+            top += self._deck_items(deck.offset_mm)
+            plane = deck.top_z_mm
+            sb = tight_bbox(self.deck_part.solid.moved(location(deck.offset_mm)))
+            surface = self.deck_part.name
         line = _robot_items(r, key_turned=False, with_locking_key=True)
-        lift = (0.0, 0.0, self.stack_pitch_mm)  # the line robot on its wheels on the cover plate
+        # the line robot on its wheels on the running surface
+        lift = (0.0, 0.0, self.stack_pitch_mm + plane - self.cover_top_mm)
 
         def bottom(m):
             return m.bounding_box()[2] + lift[2] - plane
 
         line_proj = [(it, _yz_projection(it.manifold.translate(lift)), bottom(it.manifold)) for it in line]
         lowest, clearance = min(((it, b) for it, _, b in line_proj if not it.contact), key=lambda t: t[1])
-        protrusions = []
+        protrusions, below = [], []
         for it in top:
+            h_top = it.manifold.bounding_box()[5] - plane
+            if h_top <= PROTRUSION_TOL_MM:
+                below.append((it, h_top))
             above = it.manifold.trim_by_plane((0.0, 0.0, 1.0), plane + PROTRUSION_TOL_MM)
             if above.is_empty():
                 continue
@@ -542,19 +677,52 @@ class PierColumn:
                                 "in_track": bool(meets), "meets": _merge_meets(meets),
                                 "blocks": bool(meets) and h > clearance + PROTRUSION_TOL_MM})
         treads = [tight_bbox(s) for comp, _pos, s in _contact_solids(r) if comp.role == "wheel"]
-        cover = next(p for p in self.placed(self.robots - 1) if p.role == "cover")
-        cb = tight_bbox(cover.shape)
-        on_cover = all(cb[1] <= t[1] and t[4] <= cb[4] for t in treads)
+        on_surface = all(sb[1] <= t[1] and t[4] <= sb[4] for t in treads)
         blocking = [p for p in protrusions if p["blocks"]]
-        return {"running_surface_mm": round(self.top_height_mm(), 3),
-                "ground_clearance_mm": round(clearance, 3), "lowest_line_part": lowest.label,
-                "wheel_tracks_y_mm": [[round(t[1], 2), round(t[4], 2)] for t in treads],
-                "cover_y_mm": [round(cb[1], 2), round(cb[4], 2)], "wheels_on_cover": on_cover,
-                "protrusions": protrusions, "blocking": [p["part"] for p in blocking],
-                "ok": on_cover and not blocking,
-                "measured_as": ("(y, z) projections of the top robot's parts and cover-screw heads above the "
-                                "cover plate against those of a line robot on its wheels on the plate (its sweep "
-                                "along x); ground clearance = its lowest part other than wheels and caster balls")}
+        in_track = [p["height_mm"] for p in protrusions if p["in_track"]]
+        out = {"surface": surface, "running_surface_mm": round(self.running_surface_mm(), 3),
+               "ground_clearance_mm": round(clearance, 3), "lowest_line_part": lowest.label,
+               "clearance_margin_mm": round(clearance - max(in_track, default=0.0), 3),
+               "wheel_tracks_y_mm": [[round(t[1], 2), round(t[4], 2)] for t in treads],
+               "surface_y_mm": [round(sb[1], 2), round(sb[4], 2)], "wheels_on_surface": on_surface,
+               "protrusions": protrusions, "blocking": [p["part"] for p in blocking]}
+        ok = on_surface and not blocking
+        if deck is not None:
+            # what the deck covers: the highest of the top robot's parts (and the heads) under it
+            under = [(it, h) for it, h in below if it.role not in ("deck", "deck_key")
+                     and not it.label.startswith("deck_")]
+            hi, h_hi = max(under, key=lambda t: t[1])
+            out["under_deck"] = {"highest_part": hi.label, "below_running_surface_mm": round(-h_hi, 3),
+                                 "above_cover_mm": round(h_hi + plane - self.cover_top_mm, 3)}
+            out["ends"] = ends = self._deck_ends(clearance)
+            ok = ok and ends["ok"]
+        out["ok"] = ok
+        out["measured_as"] = ("(y, z) projections of the top robot's parts, the cover-screw heads"
+                              + (" and the deck" if deck is not None else "") + " above the running surface "
+                              "against those of a line robot on its wheels on it (its sweep along x); ground "
+                              "clearance = its lowest part other than wheels and caster balls")
+        return out
+
+    def _deck_ends(self, clearance_mm: float) -> dict:
+        """The deck's end chamfers, measured on its solid, against what the line robot climbs and
+        clears: no steeper than :func:`~cubot_cad.deck.climb_limit_deg`, no deeper than its ground
+        clearance (a robot arriving as low as the chamfer's foot touches the deck's end with its
+        wheels and caster balls only)."""
+        from .deck import PRINT_SLOPE_DEG, chamfer_faces, climb_limit_deg
+
+        faces = chamfer_faces(self.deck_part.solid)
+        lim = climb_limit_deg(self.robot)
+        steep = max(f["slope_deg"] for f in faces)
+        drop = max(f["drop_mm"] for f in faces)
+        flat = min(f["x_mm"][0] for f in faces if f["x_mm"][0] > 0) - max(f["x_mm"][1] for f in faces
+                                                                           if f["x_mm"][1] < 0)
+        return {"chamfers": [{k: v for k, v in f.items() if k != "top_z_mm"} for f in faces],
+                "slope_deg": round(steep, 3), "drop_mm": round(drop, 3),
+                "climb_limit_deg": round(lim, 3), "print_slope_deg": PRINT_SLOPE_DEG,
+                "flat_length_mm": round(flat, 3), "robot_length_mm": self.robot.length_mm,
+                "arrival_margin_mm": round(clearance_mm - drop, 3),
+                "ok": len(faces) == 2 and steep <= lim + 1e-6 and drop < clearance_mm
+                and flat >= self.robot.length_mm - 1e-6}
 
     def stability(self, lean_deg: float = DEFAULT_LEAN_DEG) -> dict:
         """CoM over the support polygon, and the margin left when leaning ``lean_deg`` (worst way)."""
@@ -583,6 +751,11 @@ class PierColumn:
             "stack_pitch_mm": round(self.stack_pitch_mm, 4),
             "top_height_mm": round(self.top_height_mm(), 4),
             "heights_mm": {str(k): round(self.top_height_mm(k), 4) for k in range(1, self.robots + 1)},
+            "deck": None if self.deck_part is None else self.deck_part.name,
+            "deck_height_mm": None if self.deck_height_mm is None else round(self.deck_height_mm, 4),
+            "running_surface_mm": round(self.running_surface_mm(), 4),
+            "running_surface_heights_mm": {str(k): round(self.running_surface_mm(k), 4)
+                                           for k in range(1, self.robots + 1)},
             "mass_kg": round(self.mass_kg, 5), "com_mm": [round(v, 3) for v in self.com_mm],
             "com_height_mm": round(self.com_height_mm, 3),
             "footprint": {"plan_mm": [round(v, 3) for v in self.plan_footprint_mm],
@@ -609,6 +782,18 @@ class PierColumn:
             if key not in units:
                 units[key] = self.robot.assembly(placed=self.placed(i), fresh=fresh, name=self.robot.name)
             assy.add(units[key], name=f"{self.robot.name}_{i + 1}", loc=cq.Location(cq.Vector(*o)))
+        if self.deck_part is not None:
+            from .deck import DECK_COLOUR
+            from .robot import role_colour
+
+            deck = cq.Assembly(name=self.deck_part.name)
+            for p in self.deck_part.placed():
+                solid = p.part.solid.copy(False) if fresh else p.part.solid
+                colour = DECK_COLOUR if p.role == "deck" else role_colour(p.role)
+                deck.add(solid, name=f"{p.part.name}_1", loc=p.loc, color=cq.Color(*colour))
+            for n, h in enumerate(self.deck_part.screw_head_solids()):
+                deck.add(h, name=f"deck_screw_head_{n + 1}", color=cq.Color(0.6, 0.6, 0.6))
+            assy.add(deck, name=self.deck_part.name, loc=cq.Location(cq.Vector(*self.deck_offset_mm)))
         if floor:
             x0, y0, x1, y1 = self.plan_footprint_mm
             z = -self.floor_depth_mm

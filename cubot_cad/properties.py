@@ -164,10 +164,15 @@ class RobotProperties:
     #: None: not known, or the robot has no top-down coupling.
     stack_pitch_m: float | None = None
     stack_pitch_source: str | None = None
+    #: The top cover of a pier to the running deck the line rolls over (the printed pier deck,
+    #: ``cubot_cad.deck``, on the top robot): a pier's running surface is ``pier_height_m(k) +
+    #: deck_height_m``; and what it was measured from. None: not known, or no deck (no top-down coupling).
+    deck_height_m: float | None = None
+    deck_height_source: str | None = None
 
     def __post_init__(self) -> None:
         require(bool(self.name), "robot name must not be empty")
-        for name in ("standing_height", "stack_pitch"):
+        for name in ("standing_height", "stack_pitch", "deck_height"):
             v, src = getattr(self, f"{name}_m"), getattr(self, f"{name}_source")
             if v is None:
                 require(src is None, f"{self.name}.{name}_source is given without {name}_m")
@@ -212,6 +217,15 @@ class RobotProperties:
                 f"robot {self.name!r} has no standing height / stack pitch in its record (it does not stack, "
                 "or the record predates them: re-export with `voidcross cad export`)")
         return self.standing_height_m + (robots - 1) * (self.stack_pitch_m or 0.0)
+
+    def running_surface_height_m(self, robots: int) -> float:
+        """Floor to the running deck of a pier of ``robots`` (m): :meth:`pier_height_m` +
+        ``deck_height_m``; :class:`InputError` when the record has no deck height."""
+        top = self.pier_height_m(robots)
+        require(self.deck_height_m is not None,
+                f"robot {self.name!r} has no deck height in its record (it does not stack, or the record "
+                "predates it: re-export with `voidcross cad export`)")
+        return top + self.deck_height_m
 
     def with_connector(self, connector: ConnectorProperties) -> RobotProperties:
         """A copy with ``connector`` replacing the one of the same kind (or added)."""

@@ -15,7 +15,10 @@ COMMITTED = REPO / "exports"
 def test_manifest_lists_every_printable_part_with_its_facts(export_dir, robots):
     m = json.loads((export_dir / "manifest.json").read_text())
     assert m["material"] == "ABS" and m["density_kg_m3"] == 1040.0 and m["clearance_mm"] == 0.2
+    from cubot_cad.deck import pier_parts
+
     expected = {(name, part.name): qty for name, r in robots.items() for part, qty in r.printable_parts()}
+    expected.update({(name, part.name): qty for name, r in robots.items() for part, qty in pier_parts(r)})
     got = {(p["robot"], p["part"]): p["quantity"] for p in m["parts"]}
     assert got == expected
     for p in m["parts"]:

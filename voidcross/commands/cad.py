@@ -122,19 +122,19 @@ def do_export(out: Path, robots, formats, material: str, clearance: float, with_
 
 
 def _stack_fields(robots, clearance: float, pairs) -> dict:
-    """Standing height and stack pitch (with their sources) of every exported robot that stacks
-    (has the top-down coupling), for its properties record: the pitch from the measured docked
-    pair, or the designed one when the export runs without docking."""
-    from cubot_cad.docking import ROBOT_OF_PAIR
+    """Standing height, stack pitch and deck height (with their sources) of every exported robot
+    that stacks (has the top-down coupling), for its properties record: the pitch and the deck
+    height from the measured docked pair and the docked deck, or the designed ones when the export
+    runs without docking. (``export_robots`` writes the same fields; computed here first, before
+    anything is written.)"""
     from cubot_cad.export import make_robot
-    from cubot_cad.pier import PIER_PAIR, record_fields
+    from cubot_cad.pier import stack_fields
 
     out = {}
     for name in robots:
-        if ROBOT_OF_PAIR[PIER_PAIR] != name:
-            continue
-        pair = next((p for p in pairs or [] if p.name == PIER_PAIR), None)
-        out[name] = record_fields(make_robot(name, clearance), pair)
+        f = stack_fields(make_robot(name, clearance), pairs)
+        if f:
+            out[name] = f
     return out
 
 
@@ -315,7 +315,7 @@ def run_pier(args) -> int:
     lean = check_lean(args.lean_deg, "--lean-deg")
     check_clearance(args.clearance_mm, "--clearance-mm")
     out_dir(args.out, create=False)  # before any work
-    col = PierColumn(make_robot("cubot", args.clearance_mm), k)
+    col = PierColumn(make_robot("cubot", args.clearance_mm), k, deck=not args.no_deck)
     payload = col.summary(lean)
     d = out_dir(args.out)
     stem = f"pier-cubot-{k}"
@@ -335,12 +335,17 @@ def _pier_text(p: dict) -> str:
     mark = {True: "ok  ", False: "FAIL"}
     heights = ", ".join(f"k={k} {v:.2f}" for k, v in p["heights_mm"].items())
     st, it, dk, rs = ch["stability"], ch["interference"], ch["docking"], ch["running_surface"]
+    surface = ", ".join(f"k={k} {v:.2f}" for k, v in p["running_surface_heights_mm"].items())
     lines = [
         f"pier of {p['robots']} CuBot{'s' if p['robots'] > 1 else ''} stacked {p['coupling']} "
-        f"(clearance {p['clearance_mm']:g} mm): top cover {p['top_height_mm']:.2f} mm above the floor",
+        f"(clearance {p['clearance_mm']:g} mm): running surface {p['running_surface_mm']:.2f} mm above the floor "
+        + (f"(the {p['deck']} {p['deck_height_mm']:.2f} mm over the top cover at {p['top_height_mm']:.2f})"
+           if p["deck"] else "(the bare top cover: no deck)"),
         f"  standing height {p['standing_height_mm']:.3f} mm (floor to cover top, one robot on its wheels and "
-        f"casters), stack pitch {p['stack_pitch_mm']:.3f} mm (docked offset)",
-        f"  heights (mm): {heights}",
+        f"casters), stack pitch {p['stack_pitch_mm']:.3f} mm (docked offset)"
+        + (f", deck height {p['deck_height_mm']:.3f} mm (top cover to running deck, docked)" if p["deck"] else ""),
+        f"  top cover heights (mm): {heights}",
+        f"  running surface heights (mm): {surface}",
         f"  mass {p['mass_kg']:.3f} kg, CoM {p['com_height_mm']:.1f} mm above the floor at "
         f"({st['com_xy_mm'][0]:.2f}, {st['com_xy_mm'][1]:.2f}) mm; plan footprint {p['footprint']['plan_mm']} mm, "
         f"support polygon {p['footprint']['support_polygon_mm']} mm",
@@ -351,12 +356,27 @@ def _pier_text(p: dict) -> str:
         f"{sum(r['key_holds'] and r['key_locked'] for r in dk['interfaces'])}/{len(dk['interfaces'])} interfaces"
         + (f" ({'; '.join(dk['pair_problems'])})" if dk["pair_problems"] else ""),
     ]
+    dd = dk.get("deck")
+    if dd:
+        lines.append(f"  {mark[dd['ok']]} deck docking: {dd['part']} stands {dd['stand_mm']:.3f} mm on its ring "
+                     f"(designed {dd['design_stand_mm']:g}), turned on touching "
+                     f"{max(r['interference_mm3'] for r in dd['twist']):.3f} mm^3, docked {dd['interference_mm3']:.3f} mm^3; "
+                     f"key holds {'yes' if dd['key_holds'] else 'NO'} ({dd['turned_key_lifted_into_roof_mm3']:.0f} mm^3 "
+                     f"into the roof lifted), locked {'yes' if dd['key_locked'] else 'NO'}"
+                     + (f" ({'; '.join(dd['problems'])})" if dd["problems"] else ""))
     blocking = [q for q in rs["protrusions"] if q["blocks"]]
     detail = "; ".join(f"{q['part']} {q['height_mm']:.2f} mm high meets "
                        + ", ".join(m["line_part"] for m in q["meets"]) for q in blocking)
-    lines.append(f"  {mark[rs['ok']]} running surface: ground clearance of a line robot {rs['ground_clearance_mm']:.2f} mm "
-                 f"({rs['lowest_line_part']}); wheels on the cover: {'yes' if rs['wheels_on_cover'] else 'NO'}"
+    lines.append(f"  {mark[rs['ok']]} running surface ({rs['surface']}): ground clearance of a line robot "
+                 f"{rs['ground_clearance_mm']:.2f} mm ({rs['lowest_line_part']}), margin {rs['clearance_margin_mm']:.2f} mm; "
+                 f"wheels on it: {'yes' if rs['wheels_on_surface'] else 'NO'}"
                  + (f"; blocked by {detail}" if blocking else "; no protrusion in its track above that"))
+    if "ends" in rs:
+        e, u = rs["ends"], rs["under_deck"]
+        lines.append(f"       deck {u['below_running_surface_mm']:.2f} mm over the highest part under it "
+                     f"({u['highest_part']}); ends: {e['slope_deg']:g} deg chamfers {e['drop_mm']:g} mm deep "
+                     f"(climb limit {e['climb_limit_deg']:.1f} deg), a robot arriving that low clears the end by "
+                     f"{e['arrival_margin_mm']:.2f} mm; flat {e['flat_length_mm']:g} mm (robot {e['robot_length_mm']:g})")
     lines.append(f"  {mark[st['ok']]} stability at {st['lean_deg']:g} deg lean: margin {st['margin_mm']:.2f} mm (CoM "
                  f"{st['com_to_edge_mm']:.2f} mm inside the support polygon; tips at {st['tipping_deg']:.1f} deg)")
     lines.append(f"  files: {p['files']['step']}, {p['files']['glb']}, {p['files']['json']}")
@@ -494,6 +514,8 @@ def register(sub, common) -> None:
                     help=f"where pier-cubot-K.step, .glb and .json go (default {DEFAULT_PIER_OUT}/)")
     pr.add_argument("--lean-deg", type=_lean, default=5.0, metavar="DEG",
                     help="lean (or floor slope) the stability margin is given for, 0-45 deg (default 5)")
+    pr.add_argument("--no-deck", action="store_true",
+                    help="without the pier deck on the top robot (the bare top cover: the running surface fails)")
     pr.set_defaults(func=run_pier)
 
     b = csub.add_parser("bench", parents=[common], help="time `cad export --robot all` incl. the cadquery import",
