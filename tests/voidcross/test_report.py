@@ -237,7 +237,7 @@ def test_what_a_swarm_can_cross_is_computed_from_the_record_and_moves_with_it(re
     line = derived.levels[0]
     assert r70["widest"] >= line.max_span_widths  # 70 robots cross whatever the line spans
     shorter = dataclasses.replace(line, max_span_widths=line.max_span_widths - 1, min_robots=line.min_robots[:-1])
-    softer = dataclasses.replace(derived, levels=(shorter,))
+    softer = dataclasses.replace(derived, levels=(shorter,), piers=None)  # its pier rule was for the old line
     assert swarm_reach(softer, 70)["widest"] == line.max_span_widths - 1 < r70["widest"]
     out, _ = report
     text = "".join(p.read_text() for p in out.glob("*.md"))
