@@ -324,6 +324,8 @@ def watch(tk: Tick, before: Structure | None = None) -> None:
         if tk.st.action in ("advance", "back", "wait"):
             tk.st = replace(tk.st, action="idle")
         RT.start_retreat(tk, "stalled")
+    if tk.fault is not None and tk.st is not None and tk.st.action != "align" and tk.st is not before:
+        _place_members(tk)  # where the structure stands now, before the fault handling may end it
     DT.watch(tk)
     if tk.st is None or tk.phase != _P_BUILD:
         return

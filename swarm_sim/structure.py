@@ -154,6 +154,7 @@ class Situation:
     filling: bool = False      # new lines/layers of a switch still have open slots
     can_switch: bool = False   # structure = "switch" and a wider level follows this one
     pier_ready: bool = False   # a pier can be built (or continued) beyond the front (swarm_sim.piers)
+    can_back: bool = True      # backing one length keeps the rule (only ever false over piers)
 
 
 def situation(st: Structure, p: Params, free_available: bool, dock_ok: bool, pier_ready: bool = False) -> Situation:
@@ -183,15 +184,17 @@ def situation(st: Structure, p: Params, free_available: bool, dock_ok: bool, pie
         if st.retreating and not short_rear and n > 1:
             # the rest backs off the piers later: it must stay stable all the way back to the edge
             wo_rear_ok = wo_rear_ok and move_ok(st, p, f0, 0.0, n - 1)
+        can_back = not st.retreating or move_ok(st, p, f0, f0 - L, n)
     else:
         can_advance = (launch_ok and not partial and not span_blocked
                        and R.move_stable(front, front + L, n, L, V, *rule))
         wo_front = counts_at(front - L, n - 1, L, V) if n > 1 else R.Counts(0, 0, 0)
         wo_rear = c if short_rear else (counts_at(front, n - 1, L, V) if n > 1 else R.Counts(0, 0, 0))
         wo_front_ok, wo_rear_ok = R.stable(wo_front, *rule), R.stable(wo_rear, *rule)
+        can_back = True
     return Situation(c, n, st.landed, front_on_target and not partial, rear_on_initial, free_available,
                      dock_ok, can_advance, span_blocked, wo_front_ok, wo_rear_ok,
-                     fill, bool(p.switch_levels) and st.level + 1 < len(p.switch_levels), pier_ready)
+                     fill, bool(p.switch_levels) and st.level + 1 < len(p.switch_levels), pier_ready, can_back)
 
 
 def can_recruit(s) -> bool:
@@ -235,7 +238,9 @@ BUILD_TABLE = (
 RETREAT_TABLE = (
     ("release_rear", lambda s: s.rear_on_initial and s.stable_without_rear,
      "the rear robot stands on the initial ground and the rest stays stable without it"),
-    ("back", lambda s: True, "otherwise: move back one robot length"),
+    ("back", lambda s: s.can_back, "otherwise, if backing keeps the rule (always, without piers): move back one length"),
+    ("hold", lambda s: True, "otherwise (over piers, backing would break the rule): stand, stable; the run ends "
+     "stranded if nothing changes"),
 )
 
 
