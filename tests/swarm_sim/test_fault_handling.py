@@ -141,3 +141,23 @@ def test_both_engines_give_the_same_run_with_faults(faults):
     b = run_scenario("case-d", 12, 3, 6, faults=faults, engine="compiled").to_dict(events=True)
     a.pop("wall_s"), b.pop("wall_s")
     assert a == b
+
+
+#: draws the fault soak found breaking an invariant (voidcross sim soak --runs 300 --faults --seed 16)
+SOAK_FINDINGS = [
+    {"preset": "case-b", "robots": 18, "void_width": 5, "seed": 209195719, "limits": "thesis", "arena_w_cm": 559.0,
+     "arena_h_cm": 364.0, "target_x_cm": 534.0, "target_y_cm": 171.9198880261185, "structure": "switch",
+     "obstacles": [], "faults": "total:39.489/h,sensor:23.245/h"},
+    {"preset": "pier", "robots": 22, "void_width": 5, "seed": 81307159, "limits": "derived"},
+    {"preset": "case-d", "robots": 5, "void_width": 4, "seed": 1905404674, "limits": "thesis", "arena_w_cm": 731.0,
+     "arena_h_cm": 315.0, "target_x_cm": 706.0, "target_y_cm": 202.06842915921536, "structure": "switch",
+     "obstacles": [[443.7283921396444, 206.50640031419613, 4.750526912026057]], "faults": "total:34.745/h"},
+]
+
+
+@pytest.mark.parametrize("d", SOAK_FINDINGS, ids=[f"{d['preset']}-{d['seed']}" for d in SOAK_FINDINGS])
+def test_the_fault_soaks_findings_hold_the_invariants(d):
+    kw = {k: v for k, v in d.items() if k not in ("preset", "robots", "void_width", "seed", "limits")}
+    p = resolve_params(d["preset"], d["robots"], d["void_width"], d["limits"], **kw)
+    _, res = simulate(p, d["seed"], check=True)
+    assert not res.violations and res.robots_lost == 0 and res.end_reason not in (None, "timeout")
