@@ -154,8 +154,8 @@ def ready(tk: Tick) -> bool:
     else:
         L = p.robot_length_cm
         site = st.front_s_cm
-        if site + L >= p.void_width_cm - 1e-6:
-            return False  # the pier would stand on (or past) the far ledge
+        if site + L > p.void_width_cm + 1e-6:
+            return False  # the pier would stand on the far ledge (against its wall is fine)
         needed = p.pier_robots  # a pier is started only when the swarm knows enough material
     return known_failed_free(tk).size >= needed and _carrier_pool(tk).size > 0
 

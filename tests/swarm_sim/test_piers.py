@@ -90,3 +90,10 @@ def test_too_few_failed_robots_start_no_pier():
 def test_a_bad_depth_is_refused():
     with pytest.raises(InputError, match="void_depth_cm"):
         resolve_params("pier", 20, 6, void_depth_cm=-1.0)
+
+
+def test_a_void_one_width_past_the_line_takes_a_pier_against_the_far_wall():
+    lim = load_limits("derived")
+    line = next(lv for lv in lim.levels if lv.kind == "line")
+    res = run_scenario("pier", 24, line.max_span_widths + 1, 1, check_invariants=True)
+    assert res.success and res.robots_in_piers >= 1 and res.robots_lost == 0
