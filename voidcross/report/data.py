@@ -56,6 +56,10 @@ def load_runs(db) -> RunSet:
             errors.append(r)
             continue
         extra = json.loads(r["result_json"]) if r["result_json"] else {}
+        try:  # the run's parameter overrides (the report tells apart runs that differ only in them)
+            extra["_overrides"] = json.loads(r["params_json"]).get("overrides", {}) if r["params_json"] else {}
+        except (ValueError, AttributeError):
+            extra["_overrides"] = {}
         runs.append(Run(
             preset=r["preset"], robots=r["robots"], void_width=r["void_width"], seed=r["seed"],
             limits=r["limits_source"] or r["limits"], success=bool(r["success"]),

@@ -47,14 +47,20 @@ def _row(spec: str, runs: list[Run]) -> dict:
             "Tt_mean_s": float(np.mean(tt)) if tt else None}
 
 
+def _others(r: Run) -> str:
+    """The run's overrides other than its faults (``void_depth_cm=0.0``), "" when none."""
+    ov = {k: v for k, v in r.extra.get("_overrides", {}).items() if k != "faults"}
+    return ", ".join(f"{k}={v}" for k, v in sorted(ov.items()))
+
+
 def curves(clean: list[Run], faulty: list[Run]) -> dict:
-    """{(preset, robots, void_width): [row per fault spec, fault-free first]} for every point with
-    fault runs."""
+    """{(preset, robots, void_width, other overrides): [row per fault spec, fault-free first]} for
+    every point with fault runs."""
     groups: dict = defaultdict(lambda: defaultdict(list))
     for r in faulty:
-        groups[(r.preset, r.robots, r.void_width)][r.extra["faults_spec"]].append(r)
+        groups[(r.preset, r.robots, r.void_width, _others(r))][r.extra["faults_spec"]].append(r)
     for r in clean:
-        key = (r.preset, r.robots, r.void_width)
+        key = (r.preset, r.robots, r.void_width, _others(r))
         if key in groups:
             groups[key][""].append(r)
     out = {}
@@ -81,7 +87,8 @@ def curve_figure(cv: dict, path: Path, preset: str) -> bool:
         x = [100 * d["failed_fraction"] for d in pts]
         y = [100 * d["rate"] for d in pts]
         order = np.argsort(x)
-        ax.plot(np.array(x)[order], np.array(y)[order], marker="o", label=f"N={k[1]}, w={k[2]}")
+        ax.plot(np.array(x)[order], np.array(y)[order], marker="o",
+                label=f"N={k[1]}, w={k[2]}" + (f" ({k[3]})" if k[3] else ""))
         rows += [[k[1], k[2], d["faults"], d["runs"], 100 * d["failed_fraction"], 100 * d["rate"], d["lost"]]
                  for d in pts]
     ax.set_xlabel("robots failed during the run (% of the swarm, mean)")
@@ -109,14 +116,14 @@ def section(clean: list[Run], faulty: list[Run], fig_dir: Path, rel: str) -> tup
         if curve_figure(cv, fig_dir / name, preset):
             sec.add(Figure(f"{rel}/{name}", f"{preset}: crossing rate against the fraction of the swarm that failed",
                            f"{rel}/{Path(name).with_suffix('.csv').name}"))
-    for (preset, n, w), pts in cv.items():
+    for (preset, n, w, other), pts in cv.items():
         sec.add(Table(["faults", "runs", "crossed", "failed (% swarm)", "detected/failed", "delay mean / max (s)",
                        "delivered (mean)", "in piers (mean)", "stranded", "lost", "Tt crossed (s)"],
                       [[d["faults"], str(d["runs"]), f"{d['crossed']} ({100 * d['rate']:.0f} %)",
                         f"{100 * d['failed_fraction']:.1f}", f"{d['detected']}/{d['failed']}",
                         f"{_fmt(d['delay_mean_s'])} / {_fmt(d['delay_max_s'])}", _fmt(d["delivered_mean"]),
                         _fmt(d["in_piers_mean"]), str(d["stranded"]), str(d["lost"]), _fmt(d["Tt_mean_s"], 0)]
-                       for d in pts], f"{preset}, {n} robots, {w}-wide void"))
+                       for d in pts], f"{preset}, {n} robots, {w}-wide void" + (f", {other}" if other else "")))
     piers = [r for r in faulty if r.extra.get("robots_in_piers")]
     if piers:
         by = defaultdict(list)
@@ -130,7 +137,7 @@ def section(clean: list[Run], faulty: list[Run], fig_dir: Path, rel: str) -> tup
             rows.append([preset, str(max(crossed_0)) if crossed_0 else "-", str(max(crossed_p)) if crossed_p else "-"])
         sec.add(Table(["preset", "widest void crossed without a pier", "widest with piers"], rows,
                       "piers of failed robots (robot widths)"))
-    return sec, {f"{k[0]} N={k[1]} w={k[2]}": v for k, v in cv.items()}
+    return sec, {f"{k[0]} N={k[1]} w={k[2]}" + (f" {k[3]}" if k[3] else ""): v for k, v in cv.items()}
 
 
 __all__ = ["curve_figure", "curves", "faulted", "section", "split"]
