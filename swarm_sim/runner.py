@@ -79,6 +79,7 @@ class RunResult:
             "record_min_robots", "robots_delivered", "robots_on_initial_side", "steps", "wall_s", "violations",
             "levels_used", "switches", "seed_edge_cm", "end_reason", "hand_overs", "faults_spec", "faults",
             "robots_in_piers")}
+        d["piers"] = pier_records(self.events)
         d["robots_failed"] = len({f["robot"] for f in self.faults})
         d["robots_detected"] = len({f["robot"] for f in self.faults if f["detected_s"] is not None})
         delays = [f["delay_s"] for f in self.faults if f["delay_s"] is not None]
@@ -185,6 +186,21 @@ def with_faults(s: SwarmState, p: Params, seed: int) -> SwarmState:
         if sch is not None:
             s = replace(s, fault_schedule=sch, fault_flags=flags, fault_t_s=t_s, fault_known=known)
     return s
+
+
+def pier_records(events) -> list[dict]:
+    """Per pier the run built (swarm_sim.piers): where (its near face, cm past the near edge),
+    the robots stacked in it (lowest first), how many it needed and whether it was completed."""
+    out: list[dict] = []
+    for t, kind, r, d in events:
+        if kind == "pier_site":
+            out.append({"s_cm": d["s_cm"], "robots": [], "needed": d["robots_needed"], "complete": False,
+                        "started_s": t})
+        elif kind == "pier_lowered" and out:
+            out[d["pier"]]["robots"].append(r)
+        elif kind == "pier_complete" and out:
+            out[d["pier"]]["complete"], out[d["pier"]]["complete_s"] = True, t
+    return out
 
 
 def fault_records(events) -> list[dict]:

@@ -39,6 +39,9 @@ def test_the_pier_preset_crosses_a_void_wider_than_the_derived_line_with_the_lin
     kinds = [k for _t, k, _r, _d in res.events]
     assert "pier_complete" in kinds and kinds.index("pier_complete") < kinds.index("far_ledge")
     assert res.levels_used == ["line"]
+    pier = res.to_dict()["piers"]
+    assert len(pier) == 1 and pier[0]["complete"] and len(pier[0]["robots"]) == p.pier_robots
+    assert {f["robot"] for f in res.faults} >= set(pier[0]["robots"])  # built of failed robots
 
 
 def test_a_pier_is_built_only_of_robots_the_swarm_found_to_have_failed():
