@@ -79,6 +79,22 @@ def _under(out: Path, name: str) -> Path:
     return p if p.is_absolute() else out / p
 
 
+def _rendering(desc: str, count: int, noun: str, target: Path, work):
+    """``work(bar)`` with progress on stderr (a bar on a terminal; off one, a first line and
+    then a plain line every half minute), ended by one line saying how long it took."""
+    import sys
+    import time
+
+    if not sys.stderr.isatty():
+        print(f"{desc}: {count} {noun} -> {target}", file=sys.stderr, flush=True)
+    t0 = time.monotonic()
+    out = work(lambda it, n: progress(it, desc, n))
+    dt = time.monotonic() - t0
+    rate = f", {count / dt:.0f} {noun}/s" if dt > 0 and count > 1 else ""
+    print(f"{desc}: {count} {noun} in {dt:.1f} s{rate} -> {target}", file=sys.stderr, flush=True)
+    return out
+
+
 def run(args: argparse.Namespace) -> int:
     from swarm_sim.runner import resolve_engine, resolve_params, simulate
 
@@ -132,13 +148,14 @@ def run(args: argparse.Namespace) -> int:
         if video is not None:
             from swarm_sim.render import write_video
 
-            files.append(str(write_video(recorder.frames, p, video,
-                                         progress=lambda it, n: progress(it, "rendering video", n))))
+            files.append(str(_rendering("rendering video", len(recorder.frames), "frames", video,
+                                        lambda bar: write_video(recorder.frames, p, video, progress=bar))))
         if snaps is not None:
-            from swarm_sim.render import write_snapshots
+            from swarm_sim.render import snapshot_frames, write_snapshots
 
-            files += [str(f) for f in write_snapshots(recorder.frames, p, snaps,
-                                                      progress=lambda it, n: progress(it, "snapshots", n))]
+            n = len(snapshot_frames(recorder.frames, 6))
+            files += [str(f) for f in _rendering("snapshots", n, "snapshots", snaps,
+                                                 lambda bar: write_snapshots(recorder.frames, p, snaps, progress=bar))]
         if args.out is not None:
             target = base / f"run-{p.preset}-N{p.robots}-w{p.void_width}-s{args.seed}.json"
             _write_json_atomic(target, res.to_dict(events=True))
