@@ -195,6 +195,10 @@ def run(args: argparse.Namespace) -> int:
             human += f"\n  robot {f['robot']}: {f['mode']} failure at {f['t_s']:.1f} s while {f['doing']}; {det}"
         if len(fl) > 12:
             human += f"\n  ... {len(fl) - 12} more (--json)"
+        for i, pr in enumerate(payload["piers"]):
+            human += (f"\npier {i + 1} at {pr['s_cm']:g} cm past the near edge: failed robots {pr['robots']} "
+                      f"({len(pr['robots'])} of {pr['needed']}"
+                      + (f", complete at {pr['complete_s']:.1f} s)" if pr["complete"] else ", not completed)"))
     for sw in res.switches:
         human += (f"\n  switch to {sw['level']} ({sw['lines']} x {sw['layers']} per row) at t={sw['t_s']:.2f} s, "
                   f"n_g={sw['n_g']}, {sw['rows']} rows")
