@@ -24,7 +24,6 @@ from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
-from cubot_cad.errors import InputError as _RootInputError
 from cubot_cad.jsonrecord import check_schema, from_dict, read_json, to_jsonable, write_json_atomic
 
 from .errors import InputError
@@ -283,24 +282,15 @@ class StructureLimits:
 
     @classmethod
     def from_dict(cls, data: object, what: str = "limits") -> StructureLimits:
-        try:
-            check_schema(data, SCHEMA_VERSION, what)
-            return from_dict(cls, data, what)
-        except _RootInputError as exc:
-            if isinstance(exc, InputError):
-                raise
-            raise InputError(str(exc)) from None
+        check_schema(data, SCHEMA_VERSION, what)
+        return from_dict(cls, data, what)
 
     def save(self, path: str | os.PathLike) -> Path:
         return write_json_atomic(path, self.to_dict())
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> StructureLimits:
-        try:
-            data = read_json(path)
-        except _RootInputError as exc:
-            raise InputError(str(exc)) from None
-        return cls.from_dict(data, str(path))
+        return cls.from_dict(read_json(path), str(path))
 
 
 # --------------------------------------------------------------------------- thesis preset

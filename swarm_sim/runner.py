@@ -15,8 +15,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from cubot_cad.errors import InputError as _BaseInputError
-
 from .errors import InputError, InvariantViolation
 from .invariants import lost_robots, violations
 from .params import Params, load_preset, with_limits, with_overrides
@@ -110,13 +108,7 @@ def resolve_params(preset: str, robots: int, void_width: int, limits: str = "der
     if max_time_s is not None:
         ov["max_time_s"] = float(max_time_s)
     p = with_overrides(p, ov).validate()
-    try:
-        record = load_limits(limits)
-    except InputError:
-        raise
-    except _BaseInputError as exc:  # structure_fem's error: re-raise as swarm_sim's (same message)
-        raise InputError(str(exc)) from None
-    return with_limits(p, record)
+    return with_limits(p, load_limits(limits))
 
 
 def initial_poses(p: Params, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
