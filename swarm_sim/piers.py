@@ -242,7 +242,11 @@ def advance(tk: Tick) -> None:
             final_h = math.atan2(st.dir_y, st.dir_x)
         rx, ry, rh = float(tk.x[c]), float(tk.y[c]), float(tk.h[c])
         arrived = False
-        if tk.is_failed(c, DRIVE):
+        if tk.is_failed(c, DRIVE) and not tk.is_failed(c, TOTAL):
+            tk.detect(c, "reports_cannot_drive")  # the carrier's own drive failed: it says so
+            abort(tk, "the carrier's drive failed")
+            return
+        if tk.is_failed(c, DRIVE):  # silent and still: found when it makes no progress
             nx, ny, nh = rx, ry, rh
         else:
             nx, ny, nh, arrived = drive_along(field, rx, ry, rh, p, world, final_heading=final_h)

@@ -100,3 +100,16 @@ def test_a_void_one_width_past_the_line_takes_a_pier_against_the_far_wall():
     line = next(lv for lv in lim.levels if lv.kind == "line")
     res = run_scenario("pier", 24, line.max_span_widths + 1, 1, check_invariants=True)
     assert res.success and res.robots_in_piers >= 1 and res.robots_lost == 0
+
+
+def test_a_carrier_whose_drive_fails_says_so_and_another_brings_the_robot():
+    base = run_scenario("pier", 20, 6, 1)
+    fetch = next(e for e in base.events if e[1] == "pier_fetch")
+    c, t = fetch[2], fetch[0] + 1.0
+    res = run_scenario("pier", 20, 6, 1, faults=f"0@0:drive,1@0:drive,2@0:drive,{c}@{t}:drive", check_invariants=True)
+    abort = [e for e in res.events if e[1] == "pier_aborted"]
+    assert abort and abort[0][2] == c
+    assert any(e[1] == "fault_detected" and e[2] == c and e[3]["how"] == "reports_cannot_drive" for e in res.events)
+    later = [e for e in res.events if e[1] == "pier_fetch" and e[0] > abort[0][0]]
+    assert later and all(e[2] != c for e in later)
+    assert res.success and res.robots_in_piers == 2 and res.robots_lost == 0
