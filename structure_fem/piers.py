@@ -500,12 +500,7 @@ def derive(study: PierStudy) -> PierDerivation:
         st1 = _crossing_states(sv, (p1,), (o1,), ratio, margin)
         bad = [st for st in st1 if not st.passes]
         if bad:  # the rule's counts do not hold every state: keep the overhang that does
-            o_ok = 0
-            for st in st1:
-                if not st.passes:
-                    break
-                if st.what.endswith("beyond pier 1"):
-                    o_ok = st.rows_beyond
+            o_ok = _kept_overhang(st1, 1)
             ones[k] = replace(ones[k], widest=o_ok, stopped=ones[k].stopped + f"; checked at the rule's counts: "
                               f"{bad[0].what} fails")
             twos[k] = None
@@ -518,13 +513,7 @@ def derive(study: PierStudy) -> PierDerivation:
             st2 = _crossing_states(sv, (p1, p2), (o1, two.widest), ratio, margin, first=False)
             bad2 = [st for st in st2 if not st.passes]
             if bad2:
-                o_ok = 0
-                for st in st2:
-                    if not st.passes:
-                        break
-                    if st.what.endswith("beyond pier 2"):
-                        o_ok = st.rows_beyond
-                twos[k] = two = replace(two, widest=o_ok, stopped=two.stopped + f"; checked at the rule's counts: "
+                twos[k] = two = replace(two, widest=_kept_overhang(st2, 2), stopped=two.stopped + f"; checked at the rule's counts: "
                                         f"{bad2[0].what} fails")
         crossings.append(PierCrossing(k, pier_stiffness(inp.robot, inp.connectors, k), ones[k], two, st1, st2))
 
@@ -545,6 +534,17 @@ def derive(study: PierStudy) -> PierDerivation:
                     stack_pitch_m=getattr(study.inputs.robot, "stack_pitch_m", None),
                     deck_height_m=getattr(study.inputs.robot, "deck_height_m", None))
     return PierDerivation(study, rule, crossings, failures, source)
+
+
+def _kept_overhang(states, pier: int) -> int:
+    """The most rows beyond pier ``pier`` reached before the first state that fails."""
+    kept = 0
+    for st in states:
+        if not st.passes:
+            break
+        if st.what.endswith(f"beyond pier {pier}"):
+            kept = st.rows_beyond
+    return kept
 
 
 def _notes(study: PierStudy, crossings: list[PierCrossing], margin: int, source: str,

@@ -14,6 +14,16 @@ def kinds(res, kind):
     return [e for e in res.events if e[1] == kind]
 
 
+def first_recruit(seed=3):
+    """(time, robot) of the fault-free run's first recruit call (case D, 12 robots, 3 wide)."""
+    rec = next(e for e in run_scenario("case-d", 12, 3, seed).events if e[1] == "recruit")
+    return rec[0], rec[3]["robots"][0]
+
+
+def calls(res):
+    return {e[0] for e in res.events if e[1] in ("recruit", "hand_over")}
+
+
 def test_without_faults_the_run_is_the_fault_free_one():
     a = run_scenario("case-d", 9, 3, 5).to_dict()
     b = run_scenario("case-d", 9, 3, 5, faults="").to_dict()
@@ -52,20 +62,16 @@ def test_a_silent_member_is_detected_by_its_missed_heartbeats():
 
 
 def test_a_robot_that_cannot_drive_says_so_when_called_and_the_next_is_called():
-    base = run_scenario("case-d", 12, 3, 3)
-    rec = next(e for e in base.events if e[1] == "recruit")
-    r = rec[3]["robots"][0]
+    _, r = first_recruit()
     res = run(f"{r}@0:drive")
     det = [e for e in kinds(res, "fault_detected") if e[2] == r]
-    calls = {e[0] for e in res.events if e[1] in ("recruit", "hand_over")}
-    assert det and det[0][3]["how"] == "replied_cannot_drive" and det[0][0] in calls
+    assert det and det[0][3]["how"] == "replied_cannot_drive" and det[0][0] in calls(res)
     assert not any(r in e[3]["robots"] for e in kinds(res, "recruit"))  # known failed: never called again
 
 
 def test_a_recruit_that_dies_on_its_way_is_found_by_no_motion_and_handed_over():
-    base = run_scenario("case-d", 12, 3, 3)
-    rec = next(e for e in base.events if e[1] == "recruit")
-    r, t = rec[3]["robots"][0], rec[0] + 0.5
+    t, r = first_recruit()
+    t += 0.5
     p = resolve_params("case-d", 12, 3)
     res = run(f"{r}@{t}:total")
     det = [e for e in kinds(res, "fault_detected") if e[2] == r]
@@ -76,13 +82,10 @@ def test_a_recruit_that_dies_on_its_way_is_found_by_no_motion_and_handed_over():
 
 
 def test_a_robot_that_does_not_answer_a_call_is_passed_by_at_once():
-    base = run_scenario("case-d", 12, 3, 3)
-    rec = next(e for e in base.events if e[1] == "recruit")
-    r = rec[3]["robots"][0]
+    _, r = first_recruit()
     res = run(f"{r}@0:total")
     det = [e for e in kinds(res, "fault_detected") if e[2] == r]
-    calls = {e[0] for e in res.events if e[1] in ("recruit", "hand_over")}
-    assert det and det[0][3]["how"] == "no_reply_to_call" and det[0][0] in calls
+    assert det and det[0][3]["how"] == "no_reply_to_call" and det[0][0] in calls(res)
     assert not any(r in e[3]["robots"] for e in kinds(res, "recruit"))
 
 
