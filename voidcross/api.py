@@ -136,7 +136,7 @@ def simulate(preset: str | os.PathLike = "case-d", robots: int | None = 9, void_
 
     Args:
         preset: a shipped preset (``case-a`` .. ``case-d``, ``large-void``, ``large-void-8``,
-            ``-15``, ``-17``, ``-30``) or the path of a TOML file in the same format
+            ``-15``, ``-30``, ``pier``) or the path of a TOML file in the same format
             (``swarm_sim/presets/case-d.toml`` shows every key).
         robots: swarm size (robots); ``None``: the preset's.
         void_width_robots: void width in robot widths (the void is ``void_width_robots x
@@ -147,7 +147,9 @@ def simulate(preset: str | os.PathLike = "case-d", robots: int | None = 9, void_
         **overrides: any preset parameter by its flat, unit-carrying name, e.g.
             ``arena_w_cm=800.0``, ``arena_h_cm=200.0``, ``speed_cm_s=10.0``, ``max_time_s=600.0``
             (simulated-time cap), ``obstacles=[(200.0, 100.0, 15.0)]`` (x_cm, y_cm, r_cm),
-            ``structure="switch"``; plus ``check_invariants=True`` (raise
+            ``structure="switch"``, ``faults="drive:1.7/h,3@120:total"`` (robots that fail:
+            docs/faults.md), ``void_depth_cm=20.0`` (a floor piers can stand on); plus
+            ``check_invariants=True`` (raise
             ``swarm_sim.errors.InvariantViolation`` on the first broken invariant).
 
     Returns:
@@ -156,7 +158,8 @@ def simulate(preset: str | os.PathLike = "case-d", robots: int | None = 9, void_
         (``Ts``, ``Ta``, ``To``, ``Td``, ``Tb``, ``Tt``: simulated seconds; ``None`` for a phase a
         timed-out run never reached), ``robots_lost``, ``robots_delivered``, ``min_robots_rule``,
         ``seed_robot``, ``seed_position`` (cm), ``levels_used``, ``switches``, ``wall_s`` (real
-        seconds); ``to_dict()`` is the ``sim run --json`` record.
+        seconds), ``faults`` (per failure: when, how and when it was detected), ``robots_in_piers``;
+        ``to_dict()`` is the ``sim run --json`` record.
 
     Raises:
         InputError: (``swarm_sim.errors.InputError``) an unknown preset or parameter, a bad swarm
