@@ -14,8 +14,8 @@ Three kinds of rows (``category``):
   sized from the ISO table (:mod:`cubot_cad.fasteners`), one row per kind, size and length,
   with where they go;
 * ``pier``: what a pier of these robots needs once, not per robot (the CuBot: the printed
-  :class:`~cubot_cad.deck.PierDeck` the top robot wears, its cross key, which is the robot's own
-  ``cross_key`` part, and the key flange's screws), quantities per pier.
+  :class:`~cubot_cad.deck.PierDeck` the top robot wears, its flanged ``cross_key`` and the key
+  flange's screws), quantities per pier.
 """
 
 from __future__ import annotations
@@ -28,6 +28,12 @@ COLUMNS = ("robot", "category", "item", "description", "size", "quantity", "unit
 
 
 def _size_text(c) -> str:
+    if c.kind == "box" and getattr(c, "servo_model", None):
+        from .servos import servo
+
+        sv = servo(c.servo_model)
+        return (f"case {' x '.join(f'{v:g}' for v in c.size_mm)} mm, tabs {sv.tab_length_mm:g} mm "
+                f"(holes {sv.hole_spacing_mm:g} mm apart), {sv.horn.spline} spline")
     if c.kind == "box":
         return " x ".join(f"{v:g}" for v in c.size_mm) + " mm"
     if c.kind == "cyl_y":
@@ -89,16 +95,15 @@ def bom_rows(robot, density_kg_m3: float, printed_sizes_mm: dict | None = None) 
 def pier_rows(robot, density_kg_m3: float, printed_sizes_mm: dict | None = None) -> list[dict]:
     """The ``pier`` rows: per pier of ``robot``, the deck, its cross key and the key's screws (none for
     a robot that does not stack)."""
-    from .deck import pier_parts
+    from .deck import default_deck
 
     rows = []
-    for deck, qty in pier_parts(robot):
+    deck = default_deck(robot)
+    for qty in ([] if deck is None else [1]):
         rows.append(_printed_row(robot, deck, qty, density_kg_m3, printed_sizes_mm, "pier",
                                  "one per pier: docked on the top robot's cover (the line rolls over it)"))
         rows.append(_printed_row(robot, deck.key_part, qty, density_kg_m3, printed_sizes_mm, "pier",
-                                 f"under the {deck.name}, turned {deck.spec.twist_deg:g} deg clockwise",
-                                 f"the deck's cross key: the robot's own part (same STL), "
-                                 f"{deck.key.description}"))
+                                 f"under the {deck.name}, turned {deck.spec.twist_deg:g} deg clockwise"))
         for u in deck.screws():
             rows.append({"robot": robot.name, "category": "pier", "item": _fastener_item(u.kind, u.size, u.length_mm),
                          "description": u.description, "size": _fastener_size(u.kind, u.size, u.length_mm),

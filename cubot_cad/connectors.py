@@ -814,7 +814,7 @@ class TopTwistSpec:
     hole_chamfer_mm: float = 0.8
     #: Bore along the key for the IR transmitter that guides the upper robot (a 3 mm LED + 0.1 mm).
     ir_bore_mm: float = 3.2
-    #: Screws of the key flange (into the floor) and of the cover (into the body's corner bosses).
+    #: Screws of the pier deck's key flange and of the cover (into the body's corner bosses).
     screw_size: str = "M3"
     clearance_mm: float = DEFAULT_CLEARANCE_MM
 
@@ -860,7 +860,8 @@ class TopTwistSpec:
         return self.clearance_mm + self.key_chamfer_mm + self.hole_chamfer_mm
 
     def flange_screw_points(self) -> list[tuple[float, float]]:
-        """(x, y) of the key flange's four screws (key frame, before any turn)."""
+        """(x, y) of the flanged key's four screws (:class:`CrossKey`, the pier deck's; key frame, before
+        any turn)."""
         f = self.flange_size_mm / 2 - 4
         return [(x, y) for x in (-f, f) for y in (-f, f)]
 
@@ -912,12 +913,14 @@ def _cross_taper(w0: float, L0: float, z0: float, w1: float, L1: float, z1: floa
 
 @dataclass(frozen=True)
 class CrossKey(Part):
-    """Cross key under a robot (frame: z = 0 at the robot's underside, key below)."""
+    """Fixed cross key on a square flange (frame: z = 0 at the flange's top face, key below): the
+    pier deck's key (:mod:`cubot_cad.deck`), screwed under the deck, which turns as a whole. A
+    robot's key turns on a shaft instead (:class:`cubot_cad.twist.TwistKey`, same head)."""
 
     spec: TopTwistSpec = TopTwistSpec()
     turned: bool = False
     name: ClassVar[str] = "cross_key"
-    description: ClassVar[str] = "twist-and-lock: cross key under the robot, IR transmitter bore"
+    description: ClassVar[str] = "twist-and-lock: flanged cross key (the pier deck's), IR transmitter bore"
     print_rotation: ClassVar = (((1.0, 0.0, 0.0), 180.0),)
     support: ClassVar[str] = "the cross head's arms overhang the stem by 10 mm (support under the arms)"
 

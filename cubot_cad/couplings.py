@@ -11,7 +11,7 @@ arms, clearances and docked gaps.
   vertically by the pin's radial clearance in its own bores plus that in the mating
   robot's bores; the rail's tongue moves vertically by its flank clearance, the cross key
   slips horizontally in the cross hole and lifts by its head's clearance under the collar
-  roof. In compression the faces (or pin tips, key flange) already touch: no gap.
+  roof. In compression the faces (or pin tips, the wheels on the cover) already touch: no gap.
 * Backlash = the tension play / lever arm about the hinge (pitch play).
   Zero gap (faces touch): the joint hinges on the bottom edge of the contact
   face, so the lever arm is the height of the highest pin (long). With a gap

@@ -4,7 +4,8 @@
   engagement-latch blocks (triangular blade); docked front-to-rear with zero gap;
 * left: male dovetail rail, right: female rail (two CuBots slide side by side);
 * top: cover with the cross-hole collar and the locking key; underneath: the
-  cross key (twist and lock, clockwise);
+  twist key (twist and lock, clockwise), which turns on a shaft through the floor in a bearing
+  ring screwed under it, driven by a micro servo inside the body (:mod:`cubot_cad.twist`);
 * two drive wheels (radius 21 mm, 70 mm apart), two 10 mm ball casters (held by a
   0.3 mm undercut, 2.8 mm exposed), windows for 8 IR pairs and the two bottom-front edge detectors.
 
@@ -16,7 +17,7 @@ key lie inside it.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import ClassVar
 
@@ -25,7 +26,6 @@ from .components import Component
 from .connectors import (
     CasterSeat,
     Cover,
-    CrossKey,
     FrontRearSpec,
     LockingKey,
     RailFemale,
@@ -35,10 +35,14 @@ from .connectors import (
     latch_set_parts,
     pin_set_parts,
 )
-from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, at_least, check_clearance, need
+from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, at_least, at_most, check_clearance, need
 from .robot import Placed, Robot
+from .twist import STANDIN_GAP_MM, KeyBearing, TwistDriveSpec, TwistKey, servo_component
 
 ENVELOPE_MM = (100.0, 100.0, 85.0)
+#: The drive motors' stand-in (x, y, z mm) and how far its centre sits above the wheel axle.
+MOTOR_SIZE_MM = (12.0, 26.0, 10.0)
+MOTOR_ABOVE_AXLE_MM = 4.0
 
 
 def check_dims(obj, names: tuple[str, ...]) -> None:
@@ -69,17 +73,20 @@ class CuBotBody(Part):
     #: holds an M3 heat-set insert (boss ``boss_mm`` square in the inner corner, ``boss_depth_mm`` of
     #: full section under the wall top, then a 45 deg underside so it prints without support).
     cover_screw_inset_mm: float = 5.0
-    #: Floor hole above the cross key's IR bore (wires of the IR transmitter).
-    key_ir_hole_mm: float = 4.0
     boss_mm: float = 9.0
     boss_depth_mm: float = 8.0
     fr: FrontRearSpec = FrontRearSpec()
     rail: RailSpec = RailSpec()
     top: TopTwistSpec = TopTwistSpec()
+    #: The twist-lock drive: the key's shaft hole and the bearing ring's screw holes in the floor, and
+    #: the two servo bosses (``drive.boss_mm`` square, up to the servo's tabs, an M2 tap hole each; the
+    #: one beside the key's shaft is cut round it with the clearance).
+    drive: TwistDriveSpec = TwistDriveSpec()
     clearance_mm: float = DEFAULT_CLEARANCE_MM
     name: ClassVar[str] = "cubot_body"
     description: ClassVar[str] = ("CuBot body: hollow shell, pin/latch holes, rail IR holes, 8 IR windows, "
-                                  "edge-detector windows, wheel slots, caster and key screw holes")
+                                  "edge-detector windows, wheel slots, caster screw holes, twist-key shaft hole, "
+                                  "key-bearing screw holes, two twist-servo bosses")
 
     def validate(self) -> None:
         from .fasteners import thread
@@ -96,6 +103,30 @@ class CuBotBody(Part):
         need(at_least(self.boss_depth_mm, ins.insert_hole_depth_mm + MIN_WALL_MM),
              f"CuBotBody.boss_depth_mm {self.boss_depth_mm:g} is shallower than the {ins.insert_hole_depth_mm:g} mm "
              f"insert hole plus a {MIN_WALL_MM:g} mm floor")
+        d = self.drive
+        tap = thread(d.servo_row.screw_size).tap_drill_mm / 2
+        near, _far = d.boss_xs_mm()
+        need(at_least(near - tap - self.servo_boss_inner_mm, MIN_WALL_MM),
+             f"TwistDriveSpec.shaft_diameter_mm {d.shaft_diameter_mm:g}: the {d.servo} servo's near boss keeps under "
+             f"{MIN_WALL_MM:g} mm round its tap hole beside the key's shaft")
+        need(at_least(d.tab_z_mm - self.floor_mm, d.tab_tap_depth_mm() + MIN_WALL_MM),
+             f"TwistDriveSpec.hub_top_mm {d.hub_top_mm:g}: the servo bosses are shorter than their tap holes")
+
+    @property
+    def servo_boss_inner_mm(self) -> float:
+        """How far from the key's axis the near servo boss ends (the turning shaft + the clearance)."""
+        return self.drive.shaft_diameter_mm / 2 + self.clearance_mm
+
+    def _servo_bosses(self):
+        """The twist servo's two bosses: from the floor to the tabs' underside at the tab holes, the near
+        one cut flat :attr:`servo_boss_inner_mm` from the key's axis (clear of its turning shaft)."""
+        from .shapes import box
+
+        d, f, yc = self.drive, self.floor_mm, self.y_centre_mm
+        a, z1 = d.boss_mm / 2, d.tab_z_mm
+        near, far = d.boss_xs_mm()
+        return [box(max(near - a, self.servo_boss_inner_mm), near + a, yc - a, yc + a, f - 0.01, z1),
+                box(far - a, min(far + a, -self.servo_boss_inner_mm), yc - a, yc + a, f - 0.01, z1)]
 
     def cover_screw_points(self) -> list[tuple[float, float]]:
         """(x, y) of the cover screws (robot frame): over the corner bosses."""
@@ -127,7 +158,7 @@ class CuBotBody(Part):
         yc = self.y_centre_mm
         y0, y1 = yc - W / 2, yc + W / 2
         shell = box(-L / 2, L / 2, y0, y1, 0, H).cut(box(-L / 2 + w, L / 2 - w, y0 + w, y1 - w, f, H + 1))
-        shell = fuse_all([shell] + self._bosses())
+        shell = fuse_all([shell] + self._bosses() + self._servo_bosses())
         ins = thread(self.top.screw_size)
         cut = [cyl(ins.insert_hole_mm / 2, ins.insert_hole_depth_mm + 0.1, (x, y, H - ins.insert_hole_depth_mm), Z)
                for x, y in self.cover_screw_points()]
@@ -147,7 +178,7 @@ class CuBotBody(Part):
             cut.append(box(L / 2 - w - 1, L / 2 + 1, yc + d - 5, yc + d + 5, zi - 2.5, zi + 2.5))
             cut.append(box(d - 5, d + 5, y0 - 1, y0 + w + 1, zi - 2.5, zi + 2.5))
             cut.append(box(d - 5, d + 5, y1 - w - 1, y1 + 1, zi - 2.5, zi + 2.5))
-        # floor: wheel slots, edge detectors, key IR + screws, caster screws
+        # floor: wheel slots, edge detectors, key shaft + bearing screws, caster screws; servo boss tap holes
         r = self.wheel_radius_mm + 1.5
         for yw in (-self.wheel_base_mm / 2, self.wheel_base_mm / 2):
             a = self.wheel_width_mm / 2 + 1.5
@@ -155,10 +186,16 @@ class CuBotBody(Part):
         xe = L / 2 - w - 6
         for ye in (yc - 30, yc + 30):
             cut.append(box(xe - 3, xe + 3, ye - 2, ye + 2, -1, f + 1))
-        cut.append(cyl(self.key_ir_hole_mm / 2, f + 2, (0, yc, -1), Z))  # the key's IR transmitter wires
+        d = self.drive
+        cut.append(cyl(self.servo_boss_inner_mm, f + 2, (0, yc, -1), Z))  # the twist key's shaft
+        from .fasteners import clearance_hole_mm, tap_hole_mm
+
+        ring_r = clearance_hole_mm(d.screw_size) / 2
+        cut += [cyl(ring_r, f + 2, (x, yc + y, -1), Z) for x, y in d.ring_screw_points()]
         hole_r = self.top.screw_hole_mm / 2
-        cut += [cyl(hole_r, f + 2, (x, yc + y, -1), Z) for x, y in self.top.flange_screw_points()]
         cut += [cyl(hole_r, f + 2, (x, 0, -1), Z) for x in (-self.caster_x_mm, self.caster_x_mm)]
+        tap, depth = tap_hole_mm(d.servo_row.screw_size) / 2, d.tab_tap_depth_mm()
+        cut += [cyl(tap, depth + 0.1, (x, yc, d.tab_z_mm - depth), Z) for x in d.boss_xs_mm()]
         return cut_all(shell, cut)
 
 
@@ -190,6 +227,7 @@ class CuBot(Robot):
     fr: FrontRearSpec | None = field(default=None)
     rail: RailSpec | None = field(default=None)
     top: TopTwistSpec | None = field(default=None)
+    drive: TwistDriveSpec | None = field(default=None)
 
     name: ClassVar[str] = "cubot"
     title: ClassVar[str] = "CuBot"
@@ -205,8 +243,8 @@ class CuBot(Robot):
                  f"{ENVELOPE_MM[0]:g} x {ENVELOPE_MM[1]:g} x {ENVELOPE_MM[2]:g} mm")
         need(self.wall_mm >= MIN_WALL_MM, f"wall_mm {self.wall_mm:g} is thinner than two nozzle widths ({MIN_WALL_MM:g} mm)")
         need(self.floor_mm >= MIN_WALL_MM, f"floor_mm {self.floor_mm:g} is thinner than two nozzle widths ({MIN_WALL_MM:g} mm)")
-        fr, rail, top = self.fr_spec, self.rail_spec, self.top_spec
-        for spec, nm in ((fr, "fr"), (rail, "rail"), (top, "top")):
+        fr, rail, top, drive = self.fr_spec, self.rail_spec, self.top_spec, self.drive_spec
+        for spec, nm in ((fr, "fr"), (rail, "rail"), (top, "top"), (drive, "drive")):
             need(abs(spec.clearance_mm - self.clearance_mm) < 1e-12,
                  f"{nm}.clearance_mm {spec.clearance_mm:g} differs from clearance_mm {self.clearance_mm:g} "
                  "(one print clearance for every mating pair)")
@@ -233,6 +271,39 @@ class CuBot(Robot):
         need(H_b >= 40, f"height_mm {self.height_mm:g} leaves only {H_b:g} mm of body under the cover/collar")
         CasterSeat(ball_diameter_mm=self.caster_ball_mm, wheel_exposed_mm=self.wheel_exposed_mm,
                    clearance_mm=self.clearance_mm)  # validates the caster against the wheels
+        self._check_twist_drive()
+
+    def _check_twist_drive(self) -> None:
+        """The twist-lock drive fits the robot: the horn turns over the drive motors, the servo and the
+        boards above it stay under the cover, the bearing ring under the floor clears the lower robot's
+        locking key when docked, the battery fits in front of the horn, the horn misses the servo bosses."""
+        d, top = self.drive_spec, self.top_spec
+        comps = {c.key: c for c in self._component_list()}
+        m = comps["drive_motor"]
+        motor_top = max(p[2] for p in m.positions_mm) + m.size_mm[2] / 2
+        need(at_least(d.hub_top_mm, motor_top + STANDIN_GAP_MM),
+             f"TwistDriveSpec.hub_top_mm {d.hub_top_mm:g} puts the servo horn into the drive motors (they reach "
+             f"{motor_top:g} mm; keep {STANDIN_GAP_MM:g} mm)")
+        z = comps["zigbee"]
+        z_top = z.positions_mm[0][2] + z.size_mm[2] / 2
+        need(at_most(z_top, self.body_height_mm - STANDIN_GAP_MM),
+             f"TwistDriveSpec: the {d.servo} servo ({d.servo_top_mm:.2f} mm high) leaves no room for the main board "
+             f"and the ZigBee module under the cover (hub_top_mm {d.hub_top_mm:g})")
+        lip_under = top.stand_mm - top.collar_mm - top.lip_mm  # the lower robot's locking-key lip, below us
+        need(at_most(d.ring_mm, lip_under - top.clearance_mm),
+             f"TwistDriveSpec: the {d.ring_mm:g} mm bearing ring under the floor reaches the lower robot's locking "
+             f"key ({lip_under:g} mm below when docked; ring_lip_mm {d.ring_lip_mm:g}, disc_mm {d.disc_mm:g})")
+        b = comps["battery"]
+        bx1 = b.positions_mm[0][0] + b.size_mm[0] / 2
+        need(at_most(bx1, self.length_mm / 2 - self.fr_spec.pin_stack_mm - STANDIN_GAP_MM),
+             f"TwistDriveSpec: the servo horn ({d.horn.arm_length_mm:g} mm) pushes the battery into the front "
+             f"connector stacks")
+        # (the 60 mm battery fits between the default wheels with 0.7 mm to spare; a narrower wheel base
+        # is allowed, its stand-in then overlaps the wheels as the stand-ins did before: a stand-in, not a part)
+        margin = d.horn_boss_margin_deg(self.body.servo_boss_inner_mm)
+        need(margin > math.degrees(math.atan2(STANDIN_GAP_MM, self.body.servo_boss_inner_mm)),
+             f"TwistDriveSpec.horn_open_deg {d.horn_open_deg:g}: over travel_deg {d.travel_deg:g} the horn comes "
+             f"within {margin:.1f} deg of the servo bosses")
 
     # -- derived dimensions ---------------------------------------------------------
     @cached_property
@@ -246,6 +317,30 @@ class CuBot(Robot):
     @cached_property
     def top_spec(self) -> TopTwistSpec:
         return self.top or TopTwistSpec(stand_mm=self.wheel_exposed_mm, clearance_mm=self.clearance_mm)
+
+    @cached_property
+    def drive_spec(self) -> TwistDriveSpec:
+        """The twist drive; by default its hub face (the horn's seat) just above the drive motors."""
+        return self.drive or TwistDriveSpec(hub_top_mm=self.motor_top_mm + STANDIN_GAP_MM,
+                                            clearance_mm=self.clearance_mm)
+
+    @property
+    def motor_top_mm(self) -> float:
+        """Top of the drive motors' stand-ins (N20 + bracket, 10 mm tall, centred 4 mm above the axle)."""
+        return self.wheel_radius_mm - self.wheel_exposed_mm + MOTOR_ABOVE_AXLE_MM + MOTOR_SIZE_MM[2] / 2
+
+    @property
+    def key_axis_mm(self) -> tuple[float, float]:
+        """(x, y) of the twist key's axis (the cover's collar and the cross hole are on it)."""
+        return (0.0, self.y_centre_mm)
+
+    @cached_property
+    def twist_key(self) -> TwistKey:
+        return TwistKey(spec=self.top_spec, drive=self.drive_spec, clearance_mm=self.clearance_mm)
+
+    @cached_property
+    def key_bearing(self) -> KeyBearing:
+        return KeyBearing(spec=self.top_spec, drive=self.drive_spec, clearance_mm=self.clearance_mm)
 
     @property
     def body_width_mm(self) -> float:
@@ -275,10 +370,23 @@ class CuBot(Robot):
                          wheel_radius_mm=self.wheel_radius_mm, wheel_width_mm=self.wheel_width_mm,
                          wheel_base_mm=self.wheel_base_mm, caster_x_mm=self.caster_x_mm,
                          block_y_mm=self.block_y_mm, block_z_mm=self.block_z_mm, rail_z_mm=self.rail_z_mm,
-                         fr=self.fr_spec, rail=self.rail_spec, top=self.top_spec, clearance_mm=self.clearance_mm)
+                         fr=self.fr_spec, rail=self.rail_spec, top=self.top_spec, drive=self.drive_spec,
+                         clearance_mm=self.clearance_mm)
+
+    def key_turn_deg(self, key_turned: bool) -> float:
+        """Clockwise turn of the twist key: 0 open (aligned with a cross hole), ``twist_deg`` locked."""
+        return self.top_spec.twist_deg if key_turned else 0.0
+
+    def key_placed(self, turn_deg: float = 0.0) -> Placed:
+        """The twist key turned ``turn_deg`` clockwise (seen from above) about its axis."""
+        from .shapes import location
+
+        x, y = self.key_axis_mm
+        return Placed(self.twist_key, location((x, y, 0), -turn_deg), "cross_key")
 
     def build_placed(self, blades_locked: bool = False, key_turned: bool = False,
-                     with_locking_key: bool = True) -> list[Placed]:
+                     with_locking_key: bool = True, key_turn_deg: float | None = None) -> list[Placed]:
+        """The printed parts placed; ``key_turn_deg`` (clockwise) overrides ``key_turned``."""
         from .shapes import location
 
         L = self.length_mm
@@ -299,7 +407,9 @@ class CuBot(Robot):
                                 screw_inset_mm=self.body.cover_screw_inset_mm), location((0, yc, H_b)), "cover"))
         if with_locking_key:
             out.append(Placed(LockingKey(spec=self.top_spec), location((0, yc, H_b)), "locking_key"))
-        out.append(Placed(CrossKey(spec=self.top_spec, turned=key_turned), location((0, yc, 0)), "cross_key"))
+        turn = self.key_turn_deg(key_turned) if key_turn_deg is None else float(key_turn_deg)
+        out.append(self.key_placed(turn))
+        out.append(Placed(self.key_bearing, location((*self.key_axis_mm, 0)), "key_bearing"))
         seat = CasterSeat(ball_diameter_mm=self.caster_ball_mm, wheel_exposed_mm=self.wheel_exposed_mm,
                           clearance_mm=self.clearance_mm)
         for x in (-self.caster_x_mm, self.caster_x_mm):
@@ -309,9 +419,31 @@ class CuBot(Robot):
     def drive_parts(self) -> list[tuple[str, str, str, int]]:
         fr = self.fr_spec
         length = fr.rear_plate_mm + fr.separation_mm + 6.0  # through the bearing and the blade, into the coupler
+        h, d = self.drive_spec.horn, self.drive_spec
         return [("latch_shaft", "steel D-shaft (0.5 mm flat) with a coupler onto the latch servo's output",
                  f"diameter {fr.drive_shaft_mm:g} x {length:.0f} mm, {fr.drive_flat_mm:g} mm across the flat",
-                 len(self.block_ys_mm))]
+                 len(self.block_ys_mm)),
+                ("twist_horn", f"{h.name} supplied with the {d.servo} (its spline fits), screwed to the twist key's "
+                 f"hub face; drill its innermost arm holes ({h.hole_radii_mm[0]:g} mm from the centre) to 2.4 mm",
+                 f"{2 * h.arm_length_mm:g} mm tip to tip, {h.height_mm:g} mm thick, {h.spline} spline", 1)]
+
+    def hardware(self, placed: list | None = None) -> list:
+        """Stand-ins of the twist drive's bought parts (horn, screws, nuts, spline; the servo is a
+        component), robot frame, the turning ones at the key's turn in ``placed`` (default: open)."""
+        from .shapes import location
+        from .twist import hardware
+
+        turn = 0.0
+        if placed is not None:
+            key = next((p for p in placed if p.role == "cross_key"), None)
+            if key is not None:
+                from .docking import loc_matrix
+
+                m = loc_matrix(key.loc)
+                turn = -math.degrees(math.atan2(m[1, 0], m[0, 0]))
+        x, y = self.key_axis_mm
+        loc = location((x, y, 0))
+        return [replace(h, shape=h.shape.moved(loc)) for h in hardware(self.top_spec, self.drive_spec, self.floor_mm, turn)]
 
     def fasteners(self) -> list:
         from .fasteners import bolted
@@ -323,8 +455,8 @@ class CuBot(Robot):
                 + bolted(n, fr.screw_size, fr.latch_stack_mm, 4 * blocks, "latch blocks: wall + plates a, b, c, e",
                          nut=True, kind="ISO 10642")
                 + bolted(n, top.screw_size, top.cover_mm, 4, "cover into the body's corner bosses", insert=True)
-                + bolted(n, top.screw_size, self.floor_mm + top.flange_mm, 4, "cross-key flange under the floor",
-                         nut=True)
+                + self.drive_spec.ring_screws(self.floor_mm)
+                + [self.drive_spec.horn_screw(), self.drive_spec.tab_screw()]
                 + bolted(n, "M3", self.floor_mm, 2, "caster seats (screw from inside into the seat's tap hole)",
                          thread_mm=3.0))
 
@@ -332,7 +464,18 @@ class CuBot(Robot):
         return [self.block_z_mm + z for _ in self.block_ys_mm for _y, z in self.fr_spec.pin_positions()]
 
     def components(self) -> list[Component]:
+        return self._component_list()
+
+    def _component_list(self) -> list[Component]:
+        """The component table. The twist servo hangs over the key (:mod:`cubot_cad.twist`); the battery
+        stands on its long edge in front of the servo horn's sweep, between the wheels; the main board and
+        the ZigBee module lie above the servo (at least :data:`~cubot_cad.twist.STANDIN_GAP_MM` apart)."""
         yc, H_b, L = self.y_centre_mm, self.body_height_mm, self.length_mm
+        drv = self.drive_spec
+        board_z = max(H_b - 22.0, drv.servo_top_mm + STANDIN_GAP_MM + 4.0)
+        zigbee_z = max(H_b - 14.0, board_z + 4.0 + STANDIN_GAP_MM + 2.5)
+        near, _far = drv.boss_xs_mm()
+        bat_x0 = max(drv.horn.arm_length_mm, near + drv.boss_mm / 2) + STANDIN_GAP_MM
         axle = self.wheel_radius_mm - self.wheel_exposed_mm
         wb = self.wheel_base_mm / 2
         ball_z = -self.wheel_exposed_mm + self.caster_ball_mm / 2
@@ -342,25 +485,25 @@ class CuBot(Robot):
              [(d, yc + self.body_width_mm / 2 - 4, zi) for d in (-25, 25)]
         return [
             Component("drive_motor", "micro metal gearmotor (N20 class) with bracket", 12.0,
-                      ((0.0, -wb + 13, axle + 4), (0.0, wb - 13, axle + 4)), (12.0, 26.0, 10.0), "box", "motor",
-                      (0.3, 0.3, 0.3)),
+                      ((0.0, -wb + 13, axle + MOTOR_ABOVE_AXLE_MM), (0.0, wb - 13, axle + MOTOR_ABOVE_AXLE_MM)),
+                      MOTOR_SIZE_MM, "box", "motor", (0.3, 0.3, 0.3)),
             Component("wheel", f"drive wheel, {2 * self.wheel_radius_mm:g} mm, rubber tyre", 8.0,
                       ((0.0, -wb, axle), (0.0, wb, axle)), (2 * self.wheel_radius_mm, self.wheel_width_mm),
                       "cyl_y", "wheel", (0.1, 0.1, 0.1)),
             Component("caster_ball", f"steel ball, {self.caster_ball_mm:g} mm", 4.1,
                       ((-self.caster_x_mm, 0.0, ball_z), (self.caster_x_mm, 0.0, ball_z)),
                       (self.caster_ball_mm,), "sphere", "caster", (0.7, 0.7, 0.75)),
-            Component("battery", "2S LiPo 7.4 V 800 mAh", 45.0, ((0.0, yc, self.floor_mm + 9.0),),
-                      (60.0, 30.0, 15.0), "box", "power", (0.8, 0.5, 0.1)),
+            Component("battery", "2S LiPo 7.4 V 800 mAh (60 x 30 x 15 mm, standing on its long edge)", 45.0,
+                      ((bat_x0 + 7.5, 0.0, self.floor_mm + STANDIN_GAP_MM + 15.0),),
+                      (15.0, 60.0, 30.0), "box", "power", (0.8, 0.5, 0.1)),
             Component("main_board", "ARM Cortex-M3 controller + motor drivers + CAN", 15.0,
-                      ((0.0, yc, H_b - 22.0),), (60.0, 50.0, 8.0), "box"),
-            Component("zigbee", "ZigBee module (XBee class)", 4.0, ((20.0, yc, H_b - 14.0),), (25.0, 25.0, 5.0)),
+                      ((0.0, yc, board_z),), (60.0, 50.0, 8.0), "box"),
+            Component("zigbee", "ZigBee module (XBee class)", 4.0, ((20.0, yc, zigbee_z),), (25.0, 25.0, 5.0)),
             Component("ir_pair_board", "IR LED + photodiode pair board", 1.5, tuple(ir), (4.0, 12.0, 8.0)),
             Component("latch_servo", "micro servo driving a latch blade", 4.3,
                       tuple((-L / 2 + self.fr_spec.latch_depth_mm + 12, y, self.block_z_mm)
                             for y in self.block_ys_mm), (18.0, 12.0, 16.0), "box", "motor", (0.3, 0.3, 0.3)),
-            Component("twist_servo", "micro servo turning the cross key", 4.3,
-                      ((0.0, yc, self.floor_mm + 26.0),), (12.0, 18.0, 16.0), "box", "motor", (0.3, 0.3, 0.3)),
+            servo_component(drv, self.key_axis_mm),
             Component("edge_detector", "IR reflective edge detector (bottom front)", 1.0,
                       ((L / 2 - self.wall_mm - 6, yc - 30, self.floor_mm + 3), (L / 2 - self.wall_mm - 6, yc + 30, self.floor_mm + 3)),
                       (6.0, 10.0, 4.0)),

@@ -13,9 +13,11 @@ top robot's cover plate; x, y as the robot's; z up):
   robot's underside stands above the cover it docks on. Inside it are the collar, the locking key
   and the key flange; outside it, 17 mm further out, the cover screws' heads. It is round, so the
   deck can be turned on it;
-* the **cross key**: the robot's own :class:`~cubot_cad.connectors.CrossKey` (same spec, the
-  same ``cross_key.stl``), screwed under the key-mount face with four ISO 7380 button-head screws
-  into tap holes in the plate. It is mounted turned clockwise by ``spec.twist_deg``
+* the **cross key**: a :class:`~cubot_cad.connectors.CrossKey` (``cross_key.stl``, one per pier),
+  the robots' cross head (same spec as their :class:`~cubot_cad.twist.TwistKey`'s) on a square
+  flange, screwed under the key-mount face with four ISO 7380 button-head screws into tap holes in
+  the plate. The deck turns as a whole, so its key is fixed to it; a robot's key turns on its shaft
+  (:mod:`cubot_cad.twist`). It is mounted turned clockwise by ``spec.twist_deg``
   (``CrossKey(turned=True)``), so it is locked when the deck is square with the robot;
 * the **plate** from ``stand_mm`` to ``stand_mm + plate_mm``. Its top is the running deck: flat
   over ``length_mm`` (the robot's length) by ``width_mm`` (the robot's width, well over the wheel
@@ -196,13 +198,12 @@ class PierDeck(Part):
 
     @cached_property
     def key(self) -> CrossKey:
-        """The mating half: the robots' own cross key (same spec), mounted turned."""
+        """The mating half: the deck's flanged cross key (the robots' cross head, same spec), mounted turned."""
         return CrossKey(spec=self.spec, turned=True)
 
     @property
     def key_part(self) -> CrossKey:
-        """The key as a printed part: the robot's ``cross_key`` (the same part and STL; it is only
-        mounted turned)."""
+        """The key as a printed part: ``cross_key`` (one per pier; it is only mounted turned)."""
         return CrossKey(spec=self.spec)
 
     # -- geometry --------------------------------------------------------------------------------
@@ -325,10 +326,9 @@ def _default_deck(robot) -> PierDeck:
 
 
 def pier_parts(robot) -> list[tuple[Part, int]]:
-    """Printed parts a pier of ``robot`` needs once (not per robot): the deck. Its cross key is
-    the robot's own ``cross_key`` part, listed in the BOM's pier rows."""
+    """Printed parts a pier of ``robot`` needs once (not per robot): the deck and its cross key."""
     deck = default_deck(robot)
-    return [] if deck is None else [(deck, 1)]
+    return [] if deck is None else [(deck, 1), (deck.key_part, 1)]
 
 
 def top_face_z_mm(shape) -> float:

@@ -10,7 +10,8 @@ the pin length, latch depth, ring and housing, or wheel height give.
 
 Then the connectors are closed (blades turned, key turned and locked, fingers
 opened) and the interference volume between every printed part of A and B is
-measured. A pair is ``ok`` when that interference is <= 1 mm^3 and the measured
+measured (for the top-down pair with the twist drive's screws, nuts and horn as solids,
+:meth:`~cubot_cad.robot.Robot.hardware`). A pair is ``ok`` when that interference is <= 1 mm^3 and the measured
 gap is the pair's designed gap (:func:`design_gap_mm`) within
 :data:`GAP_TOLERANCE_MM`; :func:`require_docked` turns a failing pair into an
 :class:`~cubot_cad.errors.InputError`, which stops an export before it writes.
@@ -318,6 +319,9 @@ def _dock_robot(r, name: str, misalign_mm: tuple[float, float, float]) -> Docked
         b_open = list(r.placed) + r.component_solids(ground_only=True)
         a_closed = list(r.placed)
         b_closed = r.build_placed(key_turned=True)
+        # the bought drive parts that are not printed (the twist-lock's screws, nuts and horn) count too
+        a_closed += [h.shape for h in r.hardware(a_closed)]
+        b_closed += [h.shape for h in r.hardware(b_closed)]
         return _pair(name, r.name, a_open, b_open, a_closed, b_closed, (0, 0, 1), (0, 0, H), 40.0, 0.0, misalign_mm)
     if name == "octbot-ring":
         L = r.envelope_mm[0]

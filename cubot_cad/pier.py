@@ -35,7 +35,7 @@ Numbers (all measured on the CAD):
 Checks (:meth:`PierColumn.checks`):
 
 * ``interference``: every pair of robots in the column, printed parts and the bought parts'
-  stand-ins (wheels, casters, boards), in their column states, by manifold3d as
+  stand-ins (wheels, casters, boards, the twist drive's servo, horn, screws and nuts), in their column states, by manifold3d as
   :mod:`cubot_cad.docking` measures pairs: <= :data:`~cubot_cad.docking.INTERFERENCE_LIMIT_MM3`;
 * ``docking``: the ``cubot-top-down`` pair passes the docking check (interference and designed
   gap) and, at every interface, the key engages: the upper robot's turned key, lifted
@@ -339,10 +339,11 @@ class _Item:
 def _robot_items(robot, key_turned: bool, with_locking_key: bool, extra=()) -> list[_Item]:
     from .docking import manifold_of, to_manifold
 
-    items = [_Item(p.part.name, p.role, manifold_of(p))
-             for p in robot.build_placed(key_turned=key_turned, with_locking_key=with_locking_key)]
+    placed = robot.build_placed(key_turned=key_turned, with_locking_key=with_locking_key)
+    items = [_Item(p.part.name, p.role, manifold_of(p)) for p in placed]
     items += [_Item(comp.key, comp.role, to_manifold(s), comp.role in CONTACT_ROLES)
               for comp in robot.components() for s in comp.solids()]
+    items += [_Item(h.label, h.role, to_manifold(h.shape)) for h in robot.hardware(placed)]
     items += [_Item(label, role, to_manifold(s)) for label, role, s in extra]
     return items
 

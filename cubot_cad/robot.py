@@ -28,6 +28,7 @@ ROLE_COLOURS: dict[str, tuple[float, float, float]] = {
     "pin": (0.95, 0.42, 0.08), "pinset": (0.98, 0.68, 0.30),
     "blade": (0.10, 0.40, 0.85), "latchset": (0.45, 0.65, 0.95),
     "rail": (0.20, 0.65, 0.35), "cross_key": (0.60, 0.30, 0.75), "locking_key": (0.85, 0.30, 0.60),
+    "key_bearing": (0.40, 0.20, 0.55),
     "caster_seat": (0.55, 0.55, 0.50),
     "ring": (0.95, 0.42, 0.08), "housing": (0.10, 0.40, 0.85), "finger": (0.90, 0.75, 0.10),
 }
@@ -98,6 +99,11 @@ class Robot:
 
     def drive_parts(self) -> list[tuple[str, str, str, int]]:
         """Bought drive parts that are not in the mass table: (item, description, size, count)."""
+        return []
+
+    def hardware(self, placed: list | None = None) -> list:
+        """Stand-ins of bought drive hardware that is neither a printed part nor a component (screws,
+        horns: :class:`~cubot_cad.twist.Hardware`, robot frame) for the parts as ``placed``."""
         return []
 
     def fasteners(self) -> list:
@@ -215,4 +221,6 @@ class Robot:
             for comp in self.components():
                 for i, s in enumerate(comp.solids()):
                     assy.add(s, name=f"{comp.key}_{i + 1}", color=cq.Color(*comp.colour))
+            for h in self.hardware(self.placed if placed is None else placed):
+                assy.add(h.shape, name=h.label, color=cq.Color(*h.colour))
         return assy

@@ -75,7 +75,7 @@ def test_step_assembly_round_trips(export_dir, robots):
     r = robots["cubot"]
     shape = cq.importers.importStep(str(export_dir / "cubot.step")).val()
     solids = shape.Solids()
-    expected = [p.shape for p in r.placed] + r.component_solids()
+    expected = [p.shape for p in r.placed] + r.component_solids() + [h.shape for h in r.hardware()]
     assert len(solids) == len(expected)
     assert sum(s.Volume() for s in solids) == pytest.approx(sum(s.Volume() for s in expected), rel=1e-4)
 
@@ -131,7 +131,7 @@ def test_the_manifest_records_each_parts_print_settings(export_dir):
     m = json.loads((export_dir / "manifest.json").read_text())
     ps = {p["part"]: p["print_settings"] for p in m["parts"]}
     needs = {k for k, v in ps.items() if v["supports"]}
-    assert needs == {"cross_key", "cover_cross_hole", "cube_wheel_block", "octbot_ring"}
+    assert needs == {"cross_key", "twist_key", "cover_cross_hole", "cube_wheel_block", "octbot_ring"}
     assert all(ps[k]["support_reason"] for k in needs)
     assert ps["pinset_e_grooved_pin"]["infill_percent"] == 100 and ps["cubot_body"]["infill_percent"] == 25
     assert all(v["layer_mm"] == 0.2 and v["nozzle_mm"] == 0.4 for v in ps.values())

@@ -76,10 +76,10 @@ def test_every_screw_hole_follows_the_table(monkeypatch):
             if what == "clearance" and not name.endswith("/pinset_e_grooved_pin"):
                 assert after[name][old] == 0, (name, "a clearance hole that is not from the table")
         assert after["cubot/pinset_e_grooved_pin"] == before["cubot/pinset_e_grooved_pin"]
-    # the screw holes that exist: block stacks, cover, key flange, floor, ring, platform; caster tap holes;
+    # the screw holes that exist: block stacks, cover, key bearing, floor, ring, platform; caster tap holes;
     # the cover bosses' inserts
     assert moved["clearance"] >= 40 and moved["tap"] >= 2 and moved["insert"] >= 8, moved
-    for name in ("cubot/cubot_body", "cubot/cover_cross_hole", "cubot/cross_key", "cubot/latchset_a_front_locking_plate",
+    for name in ("cubot/cubot_body", "cubot/cover_cross_hole", "cubot/key_bearing", "cubot/latchset_a_front_locking_plate",
                  "octbot/octbot_ring", "octbot/octbot_body", "cube-robot/cube_connector_cuboid",
                  "platform/test_platform", "cubot/caster_seat"):
         assert sum(after[name][v] - before[name][v] for v in (1.9, 1.15, 2.2)) > 0, name

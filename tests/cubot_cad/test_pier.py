@@ -126,7 +126,7 @@ def test_without_the_deck_the_running_surface_is_blocked_by_the_collar(bare):
     assert rs["lowest_line_part"] == "caster_seat"
     collar = next(p for p in rs["protrusions"] if p["part"] == "cover_cross_hole")
     assert collar["height_mm"] == pytest.approx(8.705, abs=0.01) and collar["blocks"]
-    assert {m["line_part"] for m in collar["meets"]} == {"cross_key", "caster_seat", "caster_ball"}
+    assert {m["line_part"] for m in collar["meets"]} == {"twist_key", "caster_seat", "caster_ball"}
     heads = [p for p in rs["protrusions"] if p["role"] == "screw_head"]
     assert len(heads) == 4 and sum(p["blocks"] for p in heads) == 2  # under the right wheel only
     assert all(m["line_part"] == "wheel" for p in heads for m in p["meets"])
@@ -155,9 +155,9 @@ def test_the_deck_docks_on_the_collar(column, cubot):
     k = dd.keys
     assert k["turned_key_lifted_into_roof_mm3"] > 10 and k["aligned_key_lifted_into_roof_mm3"] <= 1.0
     assert k["aligned_key_into_locking_key_mm3"] > 10 and k["pull_out_play_mm"] == pytest.approx(0.2)
-    # the key is the robots' own: the same part as the robot's cross key, only mounted turned
+    # the key is the robots' cross head (same spec as the robot's twist key), on a flange, mounted turned
     robot_key = next(p.part for p in cubot.placed if p.role == "cross_key")
-    assert column.deck_part.key_part == robot_key and column.deck_part.key.spec is cubot.top_spec
+    assert column.deck_part.key.spec is robot_key.spec is cubot.top_spec
     # and the measurement sees real overlaps: 1 mm low the ring sinks into the cover; a ring of
     # radius 58 (past the check_fits guard) would sweep through the cover screws' heads turning on
     robot = [manifold_of(p) for p in cubot.build_placed()]
@@ -278,7 +278,7 @@ def test_the_deck_prints_flat_without_support(column, tmp_path):
 
 def test_the_deck_is_exported_and_listed_once_per_pier(export_dir, cubot):
     """`cad export`: exports/cubot/pier_deck.stl, a manifest record counted per pier, the BOM's
-    pier rows (the deck, its cross key: the robot's own STL, the key's four button-head screws)."""
+    pier rows (the deck, its flanged cross key, the key's four button-head screws)."""
     import csv
 
     m = json.loads((export_dir / "manifest.json").read_text())
@@ -286,7 +286,8 @@ def test_the_deck_is_exported_and_listed_once_per_pier(export_dir, cubot):
     assert rec["robot"] == "cubot" and rec["file"] == "cubot/pier_deck.stl" and rec["per"] == "pier"
     assert rec["quantity"] == 1 and rec["watertight"] and rec["fits_bed"] and rec["bbox_mm"][2] == pytest.approx(0.0)
     assert not rec["print_settings"]["supports"]
-    assert {p["per"] for p in m["parts"] if p["part"] != "pier_deck"} == {"robot"}
+    assert {p["per"] for p in m["parts"] if p["part"] not in ("pier_deck", "cross_key")} == {"robot"}
+    assert next(p for p in m["parts"] if p["part"] == "cross_key")["per"] == "pier"
     rows = [r for r in csv.DictReader((export_dir / "cubot" / "bom.csv").open()) if r["category"] == "pier"]
     assert [(r["item"], int(r["quantity"])) for r in rows] == [("pier_deck", 1), ("cross_key", 1),
                                                                ("M3x5 ISO 7380", 4)]
