@@ -250,19 +250,25 @@ def test_root_cause_plain_gravity_ramp_stalls_and_the_smoothing_continuation_con
     from structure_fem.model import Config, SolverOptions, _solve_once
 
     inp = _calibrated_cubot_inputs()
-    stalled = []
+    stalled, matched = [], 0
     for rows, over, w in ((15, 7, 7), (13, 6, 6), (11, 5, 5)):
         cfg = Config(Structure("line"), rows, over, w)
         try:
             _solve_once(cfg, inp.robot, inp.connectors, SolverOptions(smoothing_start=0.0))
         except SolverFailure:
             stalled.append(cfg)
-        fine = _solve_once(cfg, inp.robot, inp.connectors, FINE_PLAIN)
-        cont = _solve_once(cfg, inp.robot, inp.connectors, SolverOptions())
+        cont = _solve_once(cfg, inp.robot, inp.connectors, SolverOptions())  # converges on every one
+        assert cont.reactions_n.sum() == pytest.approx(cont.total_weight_n, rel=1e-6)
+        try:  # the reference: where even a 1000-step plain ramp stalls (15 / 7 / 7 since the twist-lock's
+            # servo made the CuBot 8 g heavier) there is none, and the continuation alone converges
+            fine = _solve_once(cfg, inp.robot, inp.connectors, FINE_PLAIN)
+        except SolverFailure:
+            continue
         assert cont.tip_deflection_mm == pytest.approx(fine.tip_deflection_mm, rel=1e-6)
         assert cont.tipping_factor == pytest.approx(fine.tipping_factor, rel=1e-6)
-        assert cont.reactions_n.sum() == pytest.approx(cont.total_weight_n, rel=1e-6)
+        matched += 1
     assert stalled, "no plain ramp stalled: the root-cause cases moved, pick new ones"
+    assert matched >= 2, "the fine plain ramp converged on fewer than two cases: pick new ones"
 
 
 @pytest.mark.parametrize("structure,w", [(Structure("line"), 5), (Structure("arch", 4, 2, "staggered"), 8),
