@@ -7,17 +7,8 @@ import csv
 
 import pytest
 
-from swarm_sim.sweeps import SweepSpec, prepare_sweep
-from swarm_sim.sweeps.executors import SerialExecutor
+from swarm_sim.sweeps import SweepSpec, run_sweep
 from voidcross.report import build_report
-
-
-def _sweep(db, spec):
-    plan = prepare_sweep(spec, db)
-    with SerialExecutor() as ex:
-        for _ in plan.execute(ex):
-            pass
-    plan.close()
 
 
 @pytest.fixture(scope="module")
@@ -25,8 +16,8 @@ def fault_report(tmp_path_factory):
     d = tmp_path_factory.mktemp("faults")
     db = d / "f.sqlite"
     for faults in ("", "drive:200/h"):
-        _sweep(db, SweepSpec("case-d", (6,), (1,), runs=3, limits="derived", seed0=10,
-                             overrides={"faults": faults} if faults else {}))
+        run_sweep(SweepSpec("case-d", (6,), (1,), runs=3, limits="derived", seed0=10,
+                            overrides={"faults": faults} if faults else {}), db, executor="serial")
     return d, build_report(db, d / "report", watch=None)
 
 
