@@ -26,8 +26,7 @@ CHECKS = (
     ("imageio-ffmpeg", "imageio_ffmpeg", "imageio-ffmpeg", "`voidcross sim run --video x.mp4` (GIF works without)"),
     ("hypothesis", "hypothesis", "hypothesis", "property-based tests (dev)"),
     ("pytest-benchmark", "pytest_benchmark", "pytest-benchmark", "`make bench` (dev)"),
-    ("pyarrow", "pyarrow", "pyarrow", "`voidcross sweep export --to runs.parquet` (optional, not in [all]: CSV works "
-     "without; pip install pyarrow)"),
+    ("pyarrow", "pyarrow", "pyarrow", "`voidcross sweep export --to runs.parquet` (in [api] and [all]; CSV works without)"),
 )
 TOOLS = (
     ("prusa-slicer", "prusa-slicer", "`voidcross cad check`: slicing, print time and filament (apt install prusa-slicer)"),

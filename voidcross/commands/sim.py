@@ -316,7 +316,7 @@ def register(sub, common) -> None:
     r.add_argument("--preset", default="case-d", help="preset name or TOML path (default case-d)")
     r.add_argument("--robots", type=int, default=None, help="swarm size (default: the preset's)")
     r.add_argument("--void-width", type=int, default=None, help="void width in robot widths (default: preset's)")
-    r.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
+    r.add_argument("--seed", type=int, default=0, help="random seed (default 0, as the first run of a sweep)")
     r.add_argument("--limits", default="derived", help="derived | thesis | path to limits.json")
     r.add_argument("--max-time-s", "--max-time", dest="max_time", type=float, default=None,
                    help="simulated-time cap in s (default: the preset's guard)")
