@@ -36,11 +36,16 @@ Three functions differ between Python and numba and are handled explicitly:
 float (libm ``pow``, not ``x * x``: :func:`_pose_ok1` calls ``math.pow`` with a run-time
 exponent so LLVM cannot fold it) and ``np.hypot`` (libm, the same as numba's ``math.hypot``).
 
-What is not fast-forwarded (always reference steps): idle steps
-(decisions), tapering-arch structures (shell, foot jobs), octagonal robots, runs with
-``use_numba=False``, ``on_step`` callbacks, and with ``check=True`` the structure's slides
-(the rule would have to be re-counted), the seed's alignment and any step after an invariant
-violation.
+Tapering arches (:mod:`swarm_sim.taper`): the feet's robots stand at their slots (carried);
+a foot round's robots drive to their staging points and climb (a timer) beside the core's
+action, as :func:`swarm_sim.feet.advance_job` does; an idle tapered structure whose decision
+is ``hold`` (:func:`_holds`) holds until the round changes stage.
+
+What is not fast-forwarded (always reference steps): idle steps that decide anything but
+``hold`` (decisions), the steps in which a round starts, changes stage or ends, octagonal
+robots, runs with ``use_numba=False``, ``on_step`` callbacks, piers, and with ``check=True``
+the structure's slides (the rule would have to be re-counted), tapering arches, the seed's
+alignment and any step after an invariant violation.
 """
 
 from __future__ import annotations
@@ -61,12 +66,14 @@ _WALKING_LUT = np.zeros(len(Mode), dtype=bool)
 _WALKING_LUT[list(WALKING_MODES)] = True
 
 # structure kinds the kernel knows
-K_NONE, K_WAIT, K_SLIDE, K_RECRUIT, K_ALIGN = 0, 1, 2, 3, 4
+K_NONE, K_WAIT, K_SLIDE, K_RECRUIT, K_ALIGN, K_HOLD = 0, 1, 2, 3, 4, 5
+# a tapering arch's foot round (``Structure.job``) under way beside the structure's action
+J_NONE, J_DRIVE, J_CLIMB = 0, 1, 2
 #: why the kernel stopped (index into STOP_REASONS)
 STOP_REASONS = ("batch", "seed", "verlet_grow", "wait_over", "slide_end", "far_ledge", "dock", "stalled_recruit",
-                "watchdog", "target", "wander_over", "time_limit", "lost", "invariant", "aligned")
+                "watchdog", "target", "wander_over", "time_limit", "lost", "invariant", "aligned", "job_stage")
 R_BATCH, R_SEED, R_GROW, R_WAIT, R_SLIDE_END, R_LEDGE, R_DOCK, R_RSTALL, R_WATCH, R_TARGET, R_WANDER, R_TIME, \
-    R_LOST, R_INV, R_ALIGNED = range(len(STOP_REASONS))
+    R_LOST, R_INV, R_ALIGNED, R_JOB = range(len(STOP_REASONS))
 
 #: conservative margin (cm) for threshold tests whose reference is numpy arithmetic (~200 ulps of a
 #: 3000 cm coordinate: far above a last-bit difference, far below the 1e-9 cm the edge tests allow)
@@ -298,12 +305,15 @@ if HAVE_NUMBA:
     def _kernel(n_steps, t, dt, x, y, h, goal, run_left, disp, mode, carried, walkers, u, ws_k, ws_counts,
                 ws_fill, ws_bucket, ws_items, ws_sx, ws_sy, nbr_start, nbr_idx, xref, yref, valid,
                 wf, obs, obs_none, levy, flags, kind, sf, mem_ids, mem_slots, rec_ids, rec_f, rec_final,
-                f_cost, f_nxt, f_closed, f_goal_cell, grid_i, gcx, gcy):  # pragma: no cover - compiled
+                f_cost, f_nxt, f_closed, f_goal_cell, grid_i, gcx, gcy, job, job_ids, job_f, j_cost, j_nxt,
+                j_closed, j_goal_cell):  # pragma: no cover - compiled
         """Up to ``n_steps`` whole steps; returns (steps committed, stop reason, t, front_s, progress_s).
 
         ``wf``: world/walk floats (see :func:`fast_forward`); ``flags``: (search phase, target
         check, check invariants, retreating, landed, phase WANDER); ``sf``: structure floats;
-        ``rec_f`` (R, 7): per recruit dock x, y, goal x, y, best, since, -; ``rec_final`` (R,)."""
+        ``rec_f`` (R, 7): per recruit dock x, y, goal x, y, best, since, -; ``rec_final`` (R,).
+        ``job``: the foot round's stage (J_NONE, J_DRIVE, J_CLIMB), ``sf[20]`` its climb's end (s);
+        ``job_f`` (J, 4): per round robot staging x, y, best, since (:func:`swarm_sim.feet.advance_job`)."""
         n = x.shape[0]
         k = walkers.shape[0]
         hl, hw, W, H, x0, x1, r, detect, avoid, dist, turn_max, mu, lmin, lmax, p_turn, turn_rad = (
@@ -321,6 +331,10 @@ if HAVE_NUMBA:
                 sf[13], sf[14], sf[15], sf[16], sf[17], sf[18], sf[19])
         k_row, lines, gnx, gny, window, hops = grid_i[0], grid_i[1], grid_i[2], grid_i[3], grid_i[4], grid_i[5]
         nr = rec_ids.shape[0]
+        nj = job_ids.shape[0]
+        job_until = sf[20]
+        jbest = np.empty(nj)
+        jsince = np.empty(nj)
         bx = np.empty(n)
         by = np.empty(n)
         bh = np.empty(n)
@@ -447,6 +461,34 @@ if HAVE_NUMBA:
                         stop = R_RSTALL
                 if arrived_all:
                     stop = R_DOCK
+            # 3b. the foot round (feet.advance_job): robots drive to their staging points, or climb
+            if job == J_DRIVE:
+                j_arrived = True
+                for q in range(nj):
+                    ri = job_ids[q]
+                    jgx = job_f[q, 0]
+                    jgy = job_f[q, 1]
+                    jbest[q] = job_f[q, 2]
+                    jsince[q] = job_f[q, 3]
+                    if x[ri] == jgx and y[ri] == jgy and h[ri] == dir_h:
+                        continue
+                    j_arrived = False
+                    nx, ny, nh, _ = _drive_along(x[ri], y[ri], h[ri], dir_h, dir_h, j_cost[q], j_nxt[q], j_closed[q],
+                                                 j_goal_cell[q], jgx, jgy, cell, gnx, gny, window, gcx, gcy, blocked,
+                                                 hops, dist, turn_max, hl, hw, W, H, x0w, x1w, obs, r, two)
+                    x[ri] = nx  # undone from the snapshot if the step is not committed
+                    y[ri] = ny
+                    h[ri] = nh
+                    left = _cost_at(nx, ny, j_cost[q], j_closed[q], cell, gnx, gny, window, gcx, gcy, blocked)
+                    if left < jbest[q] - half_cell:
+                        jbest[q] = left
+                        jsince[q] = tn
+                        nprogress = tn
+                if j_arrived and stop == R_BATCH:
+                    stop = R_JOB  # all at their staging points: the climb starts (a reference step)
+            elif job == J_CLIMB:
+                if not (tn + 1e-9 < job_until) and stop == R_BATCH:
+                    stop = R_JOB
             # 5. watch: the watchdog
             if stop == R_BATCH and kind != K_NONE and kind != K_ALIGN and not retreating and \
                     not (tn - nprogress <= stall_s):
@@ -519,6 +561,10 @@ if HAVE_NUMBA:
                     rec_f[q, 4] = nbest[q]
                     rec_f[q, 5] = nsince[q]
                     rec_final[q] = nfinal[q]
+            if job == J_DRIVE:
+                for q in range(nj):
+                    job_f[q, 2] = jbest[q]
+                    job_f[q, 3] = jsince[q]
             progress = nprogress
             t = tn
         return n_steps, R_BATCH, t, front, progress
@@ -562,15 +608,20 @@ if HAVE_NUMBA:
     _drop_stale_cache()
 
 
-def _kind(state, p, check: bool) -> int | None:
+def _kind(state, p, world, check: bool) -> int | None:
     """The structure kind the kernel can advance in this state, or None (reference step)."""
     st = state.structure
     if st is None:
         return K_NONE if state.phase in (_P_SEARCH, _P_DELIVERED, _P_WANDER) else None
-    if state.phase != _P_BUILD or st.shell or st.job or st.piers:
+    if state.phase != _P_BUILD or st.piers:
         return None
-    if (p.switch_levels[st.level][6] if p.switch_levels else p.taper_block_rows):  # a tapering arch
-        return None
+    if st.shell or st.job or (p.switch_levels[st.level][6] if p.switch_levels else p.taper_block_rows):
+        # a tapering arch: its feet stand still unless a round is under way (the kernel drives
+        # a round's robots and times its climb); with check the reference checks every step
+        if check or st.action == "align" or (st.job and st.job_stage not in ("drive", "climb")):
+            return None
+        if st.action == "idle":
+            return K_HOLD if _holds(state, p, world) else None
     if st.action == "align":
         return K_ALIGN if (st.members and not check) else None
     if st.action == "wait":
@@ -580,6 +631,25 @@ def _kind(state, p, check: bool) -> int | None:
     if st.action == "recruit" and st.recruits:
         return K_RECRUIT
     return None
+
+
+def _holds(state, p, world) -> bool:
+    """An idle tapered structure whose decision is ``hold`` (a foot round under way, or landed
+    with nothing to do): it decides ``hold`` again every step until something discrete
+    happens, since nothing its decision reads changes in a kernel step (the structure, the
+    free robots' modes, the world)."""
+    from . import feet
+    from .recruitment import free_robots
+    from .step import choose
+
+    st = state.structure
+    g = feet.geometry(st, p)
+    if g is None or not st.shell:
+        return False  # the reference's decide sets the empty shell first
+    if not (st.members or st.job or any(r != OPEN for r in st.shell)):
+        return False  # the structure dissolves in this step
+    free = free_robots(state.mode, st, state.fault_known)
+    return choose(st, p, world, g, int(free.size))[0] == "hold"
 
 
 _CONTEXTS: dict = {}
@@ -632,7 +702,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
     steps and stop reasons."""
     if not AVAILABLE or world.shape != "square" or state.phase in _ENDED:
         return state, 0
-    kind = _kind(state, p, check)
+    kind = _kind(state, p, world, check)
     if kind is None:
         return state, 0
     from .navigation import _HOPS, BLOCKED
@@ -671,13 +741,18 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
     f_nxt = np.zeros((0, 1), np.int64)
     f_closed = np.zeros((0, 1), np.bool_)
     f_goal = np.zeros(0, np.int64)
-    sf = np.zeros(20)
+    sf = np.zeros(21)
+    job = J_NONE
+    job_ids = np.zeros(0, np.int64)
+    job_f = np.zeros((0, 4))
+    j_cost, j_nxt, j_closed, j_goal = f_cost, f_nxt, f_closed, f_goal
+    jfields: list = []
     if st is not None:
         dir_h = math.atan2(st.dir_y, st.dir_x)
         k_row = st.lines * st.layers
         mem_h = dir_h if k_row == 1 else float(np.arctan2(st.dir_y, st.dir_x))
         sgn = 1.0 if st.action == "advance" else -1.0
-        sf[:] = (st.wait_until_s, st.front_s_cm, st.goal_s_cm, sgn, p.speed_cm_s, p.void_width_cm, L, Wr,
+        sf[:20] = (st.wait_until_s, st.front_s_cm, st.goal_s_cm, sgn, p.speed_cm_s, p.void_width_cm, L, Wr,
                  st.origin_x_cm, st.origin_y_cm, st.dir_x, st.dir_y, st.lateral_sign, mem_h, st.progress_s,
                  p.recruit_stall_s, 0.5 * grid.cell_cm, dir_h, grid.cell_cm, BLOCKED)
         grid_i = np.array([k_row, st.lines, grid.nx, grid.ny, grid.window, _HOPS], dtype=np.int64)
@@ -690,6 +765,27 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
             f_cost, f_nxt, f_closed, f_goal = _stacked([f for f, _, _ in fields])
             if carried[rec_ids].any():
                 return state, 0
+        if st.shell:  # the feet's robots stand at their slots (carried by the structure)
+            sh = np.asarray(st.shell, dtype=np.int64)
+            carried[sh[sh != OPEN]] = True
+        if st.job:
+            from . import feet
+            from . import taper as T
+            from .navigation import cost_field
+
+            if st.job_stage == "drive":
+                g = feet.geometry(st, p)
+                job = J_DRIVE
+                jfields = [cost_field(world, *T.staging_xy(st, g, L, Wr, c)) for c in st.job_cols]
+                job_ids = np.asarray(st.job, dtype=np.int64)
+                job_f = np.array([[f.goal_x, f.goal_y, b, s_] for f, b, s_ in
+                                  zip(jfields, st.job_best_cm, st.job_progress_s, strict=True)], dtype=np.float64)
+                j_cost, j_nxt, j_closed, j_goal = _stacked(jfields)
+                if carried[job_ids].any():
+                    return state, 0
+            else:
+                job = J_CLIMB
+                sf[20] = st.job_until_s
     else:
         grid_i = np.array([1, 1, grid.nx, grid.ny, grid.window, _HOPS], dtype=np.int64)
     ws = workspace(n)
@@ -707,13 +803,19 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
         horizon = min(horizon, abs(st.goal_s_cm - st.front_s_cm) / (p.speed_cm_s * dt))
     if state.phase == _P_WANDER:
         horizon = min(horizon, (state.phase_since_s + p.wander_after_retreat_s - state.t_s) / dt)
+    if job == J_CLIMB:
+        horizon = min(horizon, (st.job_until_s - state.t_s) / dt)
     guess = _MIN_BATCH
+    if job == J_DRIVE:  # as the recruits below: the longest remaining path
+        left = max((c for c in (f.cost_at(float(state.x_cm[r]), float(state.y_cm[r])) for f, r in
+                                zip(jfields, st.job, strict=True)) if math.isfinite(c)), default=0.0)
+        guess = int(1.2 * left / (p.speed_cm_s * dt)) + 64
     if kind == K_RECRUIT:  # a recruit drives at most one step's length per step: its remaining path
         left = 0.0
         for (f, dxp, dyp), r in zip(fields, st.recruits, strict=True):
             c = f.cost_at(float(state.x_cm[r]), float(state.y_cm[r])) + math.hypot(f.goal_x - dxp, f.goal_y - dyp)
             left = max(left, c if math.isfinite(c) else 0.0)
-        guess = int(1.2 * left / (p.speed_cm_s * dt)) + 64
+        guess = max(guess, int(1.2 * left / (p.speed_cm_s * dt)) + 64)
     batch = int(min(_MAX_BATCH, max(1.0, horizon + 2.0))) if horizon < guess else min(guess, _MAX_BATCH)
     reason = R_BATCH
     bg = rng.bit_generator
@@ -730,7 +832,8 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
         j, reason, t, front, progress = _kernel(
             S, t, p.dt_s, x, y, h, goal, run_left, disp, mode, carried, walkers, u, *ws[:7], *ws[7:], wf,
             world.obstacles, obs_none, p.walk == "levy", flags, kind, sf, mem_ids, mem_slots, rec_ids,
-            rec_f, rec_final, f_cost, f_nxt, f_closed, f_goal, grid_i, grid.cx, grid.cy)
+            rec_f, rec_final, f_cost, f_nxt, f_closed, f_goal, grid_i, grid.cx, grid.cy, job, job_ids, job_f,
+            j_cost, j_nxt, j_closed, j_goal)
         total += j
         if stats is not None:
             stats["kernel_calls"] = stats.get("kernel_calls", 0) + 1
@@ -762,6 +865,11 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
             final = tuple(bool(v) for v in rec_final)
             if (best, since, final) != (st.recruit_best_cm, st.recruit_progress_s, st.recruit_final):
                 new_st = replace(st, recruit_best_cm=best, recruit_progress_s=since, recruit_final=final)
+        if job == J_DRIVE:
+            best = tuple(float(v) for v in job_f[:, 2])
+            since = tuple(float(v) for v in job_f[:, 3])
+            if (best, since) != (st.job_best_cm, st.job_progress_s):
+                new_st = replace(new_st, job_best_cm=best, job_progress_s=since)
         if float(progress) != new_st.progress_s:
             new_st = replace(new_st, progress_s=float(progress))
     new = replace(state, x_cm=x, y_cm=y, heading_rad=h, goal_heading_rad=goal, run_left_cm=run_left,

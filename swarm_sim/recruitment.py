@@ -167,11 +167,16 @@ def closest(fields: list[CostField], pool: list[int], x: np.ndarray, y: np.ndarr
 
 def candidates(tk: Tick) -> np.ndarray:
     """Free robots that may be called (not passed over for this dock, not known to have failed)."""
-    free = tk.mode == _EXPLORE
-    if tk.st is not None and tk.st.passed_over:
-        free[list(tk.st.passed_over)] = False
-    if tk.known is not None:
-        free &= ~tk.known
+    return free_robots(tk.mode, tk.st, tk.known)
+
+
+def free_robots(mode: np.ndarray, st: Structure | None, known: np.ndarray | None) -> np.ndarray:
+    """:func:`candidates` from the state's arrays (``known``: robots known to have failed)."""
+    free = mode == _EXPLORE
+    if st is not None and st.passed_over:
+        free[list(st.passed_over)] = False
+    if known is not None:
+        free &= ~known
     return np.flatnonzero(free)
 
 
@@ -329,4 +334,4 @@ def open_slots(st: Structure) -> list[int]:
 
 
 __all__ = ["approach", "approach_point", "call", "call_off", "candidates", "closest", "dock", "hand_over",
-           "open_slots", "path_costs", "slot_field", "answering", "OPEN"]
+           "free_robots", "open_slots", "path_costs", "slot_field", "answering", "OPEN"]

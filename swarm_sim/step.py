@@ -251,29 +251,39 @@ def decide(tk: Tick) -> None:
         return
     if tk.fault is not None and not DT.can_decide(tk):
         return  # every member is silent (swarm_sim.detection.watch ends it)
+    g = feet.geometry(st, p)
+    if g is not None and not st.shell:
+        tk.st = st = replace(st, shell=T.empty_shell(g))
     free = RC.candidates(tk)
+    action, sit, ctx = choose(st, p, tk.world, g, int(free.size))
+    if g is None and sit.span_blocked and p.pier_robots and not st.landed:
+        PR.call_for_material(tk)  # the span is reached: can failed robots make a pier?
+        if PR.ready(tk):
+            action, sit = S.decide(st, level_params(p, st), ctx["enough"], ctx["dock_ok"], pier_ready=True)
+    ctx["sit"] = sit
+    ACTIONS[action](tk, ctx)
+
+
+def choose(st: Structure, p, world, g, free: int) -> tuple[str, object, dict]:
+    """The idle structure's decision (a pure function of the structure, the free robots'
+    count and the world): (action, situation, the actions' context). ``g``: the level's shell
+    geometry (None when it does not taper; the shell already set). The compiled engine asks
+    it too, to know when an idle tapered structure only holds."""
     slot_ids = RC.open_slots(st)
-    enough = free.size >= 1 if S.filling(st) else free.size >= len(slot_ids)
+    enough = free >= 1 if S.filling(st) else free >= len(slot_ids)
     L, W = p.robot_length_cm, p.robot_width_cm
     # the dock point is part of the structure: walls and void only (assumption 13)
-    on_ground = tk.world.without_obstacles.pose_ok1
+    on_ground = world.without_obstacles.pose_ok1
     dock_ok = all(on_ground(sx, sy, 0.0) for sx, sy, _, _ in (S.slot_pose(st, q, L, W) for q in slot_ids))
-    g = feet.geometry(st, p)
     lp = level_params(p, st)
     if g is not None:
-        if not st.shell:
-            tk.st = st = replace(st, shell=T.empty_shell(g))
         if st.job and (st.retreating or not st.landed):
             action, sit = "hold", None  # the tables' first row, without computing the rest
         else:
-            action, sit = T.decide(st, lp, g, int(free.size), enough, dock_ok)
+            action, sit = T.decide(st, lp, g, free, enough, dock_ok)
     else:
         action, sit = S.decide(st, lp, enough, dock_ok)
-        if sit.span_blocked and p.pier_robots and not st.landed:
-            PR.call_for_material(tk)  # the span is reached: can failed robots make a pier?
-            if PR.ready(tk):
-                action, sit = S.decide(st, lp, enough, dock_ok, pier_ready=True)
-    ACTIONS[action](tk, {"g": g, "sit": sit, "slots": slot_ids, "free": int(free.size), "dock_ok": dock_ok})
+    return action, sit, {"g": g, "sit": sit, "slots": slot_ids, "free": free, "dock_ok": dock_ok, "enough": enough}
 
 
 # ---------------------------------------------------------------------------- 5. watch

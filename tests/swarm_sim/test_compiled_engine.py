@@ -126,15 +126,23 @@ def test_a_switch_to_two_lines_that_crosses_is_the_same(tmp_path):
     assert stats["kernel_steps"] > 0.8 * res.steps
 
 
-def test_a_tapering_arch_is_the_same(tmp_path, tapering_record):
-    """While a tapering arch exists every step is a reference step (the kernel does not know its
-    feet); the search and the line's build before the switch are the kernel's. (A custom small
-    record: the thesis record's arches start at 15 widths and ~200 robots, minutes per reference run.)"""
-    p = resolve_params("case-d", TAPER_ROBOTS, 4, tapering_record(tmp_path / "t.json"), 150.0, structure="switch",
+@pytest.mark.parametrize(("robots", "seed", "end"), [(30, 1, "crossed"), (30, 2, "crossed"),
+                                                     (20, 3, "retreated-no-robots")])
+def test_a_tapering_arch_is_the_same(tmp_path, tapering_record, robots, seed, end):
+    """A tapering arch from the line's switch to the far foot's dissolution (or, one swarm too
+    small, its retreat with the near foot dissolving first): the feet stand at their slots,
+    the foot rounds' drives and climbs and the idle structure's holds are the kernel's; the
+    rounds' starts, stage changes and ends are reference steps. (A custom small record: the
+    thesis record's arches start at 15 widths and ~200 robots.)"""
+    p = resolve_params("case-d", robots, 4, tapering_record(tmp_path / "t.json"), structure="switch",
                        finish_delivery=True)
-    _, res, stats = both(p, 1)
-    assert res.levels_used == ["line", "arch-t"] and res.timed_out  # cut during the arch's foot rounds
-    assert stats["kernel_steps"] > 0.05 * res.steps  # the search and the line's build before the switch
+    _, res, stats = both(p, seed)
+    assert res.levels_used == ["line", "arch-t"] and res.end_reason == end and res.robots_lost == 0
+    kinds = {k for _t, k, _r, _d in res.events}
+    assert {"fill_near_start", "fill_near"} <= kinds  # the feet were built (and, crossing, dissolved)
+    if end == "crossed":
+        assert {"dissolve_far_start", "dissolve_far"} <= kinds
+    assert stats["kernel_steps"] > 0.95 * res.steps  # the rounds too: a dead tapered fast path fails
 
 
 TAPER_ROBOTS = 30
