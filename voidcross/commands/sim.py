@@ -33,8 +33,8 @@ RUN_EPILOG = """examples:
   voidcross sim run --preset case-d --robots 9 --void-width 3 --snapshots snaps --out results/sim
   voidcross sim run --preset large-void --robots 70 --void-width 8 --limits thesis   (line -> two lines)
   voidcross sim run --preset large-void-8 --robots 306   (the derived limits' widest void: line -> 4x2 -> 6x3 arches)
-  voidcross sim run --preset large-void-15 --robots 200 --void-width 15 --limits thesis   (tapering arch-15, ~10 min)
-  voidcross sim run --preset large-void-30 --robots 470 --void-width 30 --limits thesis   (tapering arch-30, ~20+ min)
+  voidcross sim run --preset large-void-15 --robots 200 --void-width 15 --limits thesis   (tapering arch-15, ~4 s compiled)
+  voidcross sim run --preset large-void-30 --robots 470 --void-width 30 --limits thesis   (tapering arch-30, ~15 s compiled)
   voidcross sim run --preset large-void-15 --limits thesis --snapshots snaps --frame-every 200   (side view: both feet)
   voidcross sim run --preset my-arena.toml --robots 20 --void-width 4 --set arena_w_cm=800 --debug
 presets: case-a, case-b, case-c, case-d, large-void, large-void-8, large-void-15, large-void-30
