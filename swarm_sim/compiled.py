@@ -71,9 +71,10 @@ K_NONE, K_WAIT, K_SLIDE, K_RECRUIT, K_ALIGN, K_HOLD = 0, 1, 2, 3, 4, 5
 J_NONE, J_DRIVE, J_CLIMB = 0, 1, 2
 #: why the kernel stopped (index into STOP_REASONS)
 STOP_REASONS = ("batch", "seed", "verlet_grow", "wait_over", "slide_end", "far_ledge", "dock", "stalled_recruit",
-                "watchdog", "target", "wander_over", "time_limit", "lost", "invariant", "aligned", "job_stage")
+                "watchdog", "target", "wander_over", "time_limit", "lost", "invariant", "aligned", "job_stage",
+                "field")
 R_BATCH, R_SEED, R_GROW, R_WAIT, R_SLIDE_END, R_LEDGE, R_DOCK, R_RSTALL, R_WATCH, R_TARGET, R_WANDER, R_TIME, \
-    R_LOST, R_INV, R_ALIGNED, R_JOB = range(len(STOP_REASONS))
+    R_LOST, R_INV, R_ALIGNED, R_JOB, R_FIELD = range(len(STOP_REASONS))
 
 #: conservative margin (cm) for threshold tests whose reference is numpy arithmetic (~200 ulps of a
 #: 3000 cm coordinate: far above a last-bit difference, far below the 1e-9 cm the edge tests allow)
@@ -258,37 +259,40 @@ if HAVE_NUMBA:
     @numba.njit(cache=True)
     def _waypoint(x, y, cost, nxt, closed, goal_cell, gx, gy, cell, gnx, gny, window, gcx, gcy, blocked,
                   hops):  # pragma: no cover - compiled
-        """:meth:`CostField.waypoint`: (found, wx, wy); found False is ``None``."""
+        """:meth:`CostField.waypoint`: (found, wx, wy, read); found False is ``None``; ``read``: the
+        cost the answer rests on (final when below the field's front, :meth:`CostField.known`)."""
         i, j = _cell_ij(x, y, cell, gnx, gny)
         c = j * gnx + i
-        if cost[c] >= blocked:
+        v = cost[c]
+        if v >= blocked:
             if not closed[c]:
-                return False, 0.0, 0.0
-            _, c = _near(x, y, cost, cell, gnx, gny, window, gcx, gcy, blocked)
+                return False, 0.0, 0.0, v
+            best, c = _near(x, y, cost, cell, gnx, gny, window, gcx, gcy, blocked)
             if c < 0:
-                return False, 0.0, 0.0
-            return True, gcx[c], gcy[c]
+                return False, 0.0, 0.0, best
+            return True, gcx[c], gcy[c], best
         for _ in range(hops):
             if c == goal_cell:
-                return True, gx, gy
+                return True, gx, gy, v
             c = nxt[c]
             if c < 0:
-                return True, gx, gy
+                return True, gx, gy, v
         if c == goal_cell:
-            return True, gx, gy
-        return True, gcx[c], gcy[c]
+            return True, gx, gy, v
+        return True, gcx[c], gcy[c], v
 
     @numba.njit(cache=True)
     def _drive_along(x, y, h, final_h, align_h, cost, nxt, closed, goal_cell, gx, gy, cell, gnx, gny, window,
                      gcx, gcy, blocked, hops, dist, tm, hl, hw, W, H, x0, x1, obs, r, two):  # pragma: no cover
-        """:func:`swarm_sim.motion.drive_along` (``align_h`` given, as the recruits call it)."""
+        """:func:`swarm_sim.motion.drive_along` (``align_h`` given, as the recruits call it), and
+        the field's value it read (``-inf``: none; :func:`_waypoint`)."""
         if _py_hypot(x - gx, y - gy) < 1e-9:
             _, _, nh, done = _goto(gx, gy, h, gx, gy, True, final_h, False, 0.0, dist, tm,
                                    hl, hw, W, H, x0, x1, obs, r, two)
             if done:
-                return gx, gy, final_h, True
-            return gx, gy, nh, False
-        found, wx, wy = _waypoint(x, y, cost, nxt, closed, goal_cell, gx, gy, cell, gnx, gny, window, gcx, gcy,
+                return gx, gy, final_h, True, -math.inf
+            return gx, gy, nh, False, -math.inf
+        found, wx, wy, read = _waypoint(x, y, cost, nxt, closed, goal_cell, gx, gy, cell, gnx, gny, window, gcx, gcy,
                                   blocked, hops)
         if not found:
             wx = gx
@@ -299,7 +303,23 @@ if HAVE_NUMBA:
         if at_goal and _py_hypot(nx - gx, ny - gy) < 1e-9:
             nx = gx
             ny = gy
-        return nx, ny, nh, False
+        return nx, ny, nh, False, read
+
+    @numba.njit(cache=True)
+    def _final(read, front, x, y, closed, cell, gnx, gny, window):  # pragma: no cover - compiled
+        """The field's value read for a robot at (x, y) is final (:meth:`CostField.final`):
+        below the field's ``front`` (inf once complete), or the robot stands in a closed cell
+        with no open cell in its window (no path however far the search goes)."""
+        if read < front or front == math.inf:
+            return True
+        i, j = _cell_ij(x, y, cell, gnx, gny)
+        if not closed[j * gnx + i]:
+            return False
+        for jj in range(max(0, j - window), min(gny, j + window + 1)):
+            for ii in range(max(0, i - window), min(gnx, i + window + 1)):
+                if not closed[jj * gnx + ii]:
+                    return False
+        return True
 
     @numba.njit(cache=True)
     def _kernel(n_steps, t, dt, x, y, h, goal, run_left, disp, mode, carried, walkers, u, ws_k, ws_counts,
@@ -443,13 +463,16 @@ if HAVE_NUMBA:
                             in_h = dir_h
                         else:
                             in_h = math.atan2(dyp - ay, dxp - ax)
-                        nx, ny, nh, fin = _drive_along(rx, ry, rh, in_h, in_h, f_cost[q], f_nxt[q], f_closed[q],
-                                                       f_goal_cell[q], ax, ay, cell, gnx, gny, window, gcx, gcy,
-                                                       blocked, hops, dist, turn_max, hl, hw, W, H, x0w, x1w, obs,
-                                                       r, two)
+                        nx, ny, nh, fin, read = _drive_along(rx, ry, rh, in_h, in_h, f_cost[q], f_nxt[q],
+                                                             f_closed[q], f_goal_cell[q], ax, ay, cell, gnx, gny,
+                                                             window, gcx, gcy, blocked, hops, dist, turn_max, hl,
+                                                             hw, W, H, x0w, x1w, obs, r, two)
                         nfinal[q] = fin
-                        left = _cost_at(nx, ny, f_cost[q], f_closed[q], cell, gnx, gny, window, gcx, gcy,
-                                        blocked) + _py_hypot(ax - dxp, ay - dyp)
+                        here = _cost_at(nx, ny, f_cost[q], f_closed[q], cell, gnx, gny, window, gcx, gcy, blocked)
+                        if not (_final(read, rec_f[q, 6], rx, ry, f_closed[q], cell, gnx, gny, window)
+                                and _final(here, rec_f[q, 6], nx, ny, f_closed[q], cell, gnx, gny, window)):
+                            stop = R_FIELD  # the field is not settled this far yet (fast_forward settles it)
+                        left = here + _py_hypot(ax - dxp, ay - dyp)
                     x[ri] = nx  # undone from the snapshot if the step is not committed
                     y[ri] = ny
                     h[ri] = nh
@@ -473,13 +496,20 @@ if HAVE_NUMBA:
                     if x[ri] == jgx and y[ri] == jgy and h[ri] == dir_h:
                         continue
                     j_arrived = False
-                    nx, ny, nh, _ = _drive_along(x[ri], y[ri], h[ri], dir_h, dir_h, j_cost[q], j_nxt[q], j_closed[q],
-                                                 j_goal_cell[q], jgx, jgy, cell, gnx, gny, window, gcx, gcy, blocked,
-                                                 hops, dist, turn_max, hl, hw, W, H, x0w, x1w, obs, r, two)
+                    ox_ = x[ri]
+                    oy_ = y[ri]
+                    nx, ny, nh, _, read = _drive_along(x[ri], y[ri], h[ri], dir_h, dir_h, j_cost[q], j_nxt[q],
+                                                       j_closed[q], j_goal_cell[q], jgx, jgy, cell, gnx, gny, window,
+                                                       gcx, gcy, blocked, hops, dist, turn_max, hl, hw, W, H, x0w,
+                                                       x1w, obs, r, two)
                     x[ri] = nx  # undone from the snapshot if the step is not committed
                     y[ri] = ny
                     h[ri] = nh
                     left = _cost_at(nx, ny, j_cost[q], j_closed[q], cell, gnx, gny, window, gcx, gcy, blocked)
+                    if stop == R_BATCH and not (
+                            _final(read, job_f[q, 4], ox_, oy_, j_closed[q], cell, gnx, gny, window)
+                            and _final(left, job_f[q, 4], nx, ny, j_closed[q], cell, gnx, gny, window)):
+                        stop = R_FIELD
                     if left < jbest[q] - half_cell:
                         jbest[q] = left
                         jsince[q] = tn
@@ -682,12 +712,16 @@ def _context(p, world) -> tuple:
 
 def _stacked(fields: list) -> tuple:
     """The recruits' cost fields as (R, cells) arrays (cached while the same fields are in use)."""
-    key = tuple(id(f) for f in fields)
+    key = tuple((id(f), f.version) for f in fields)
     hit = _STACKS.get(key)
     if hit is not None and all(a is b for a, b in zip(hit[0], fields, strict=True)):
         return hit[1]
-    out = (np.stack([f.cost for f in fields]), np.stack([f.nxt for f in fields]),
-           np.stack([f.closed for f in fields]), np.array([f.goal_cell for f in fields], dtype=np.int64))
+    if len(fields) == 1:  # views: the kernel reads the field itself (settled in place), no copy
+        f = fields[0]
+        out = (f.cost[None, :], f.nxt[None, :], f.closed[None, :], np.array([f.goal_cell], dtype=np.int64))
+    else:
+        out = (np.stack([f.cost for f in fields]), np.stack([f.nxt for f in fields]),
+               np.stack([f.closed for f in fields]), np.array([f.goal_cell for f in fields], dtype=np.int64))
     if len(_STACKS) > 8:
         _STACKS.clear()
     _STACKS[key] = (list(fields), out)
@@ -744,7 +778,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
     sf = np.zeros(21)
     job = J_NONE
     job_ids = np.zeros(0, np.int64)
-    job_f = np.zeros((0, 4))
+    job_f = np.zeros((0, 5))
     j_cost, j_nxt, j_closed, j_goal = f_cost, f_nxt, f_closed, f_goal
     jfields: list = []
     if st is not None:
@@ -759,7 +793,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
         if kind == K_RECRUIT:
             fields = [slot_field(st, p, world, slot) for slot in st.recruit_slots]
             rec_ids = np.asarray(st.recruits, dtype=np.int64)
-            rec_f = np.array([[dxp, dyp, f.goal_x, f.goal_y, b, s_, 0.0] for (f, dxp, dyp), b, s_ in
+            rec_f = np.array([[dxp, dyp, f.goal_x, f.goal_y, b, s_, f.front] for (f, dxp, dyp), b, s_ in
                               zip(fields, st.recruit_best_cm, st.recruit_progress_s, strict=True)], dtype=np.float64)
             rec_final = np.asarray(st.recruit_final, dtype=np.bool_)
             f_cost, f_nxt, f_closed, f_goal = _stacked([f for f, _, _ in fields])
@@ -778,7 +812,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
                 job = J_DRIVE
                 jfields = [cost_field(world, *T.staging_xy(st, g, L, Wr, c)) for c in st.job_cols]
                 job_ids = np.asarray(st.job, dtype=np.int64)
-                job_f = np.array([[f.goal_x, f.goal_y, b, s_] for f, b, s_ in
+                job_f = np.array([[f.goal_x, f.goal_y, b, s_, f.front] for f, b, s_ in
                                   zip(jfields, st.job_best_cm, st.job_progress_s, strict=True)], dtype=np.float64)
                 j_cost, j_nxt, j_closed, j_goal = _stacked(jfields)
                 if carried[job_ids].any():
@@ -847,7 +881,18 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
                     bg.advance(j * 4 * k)
                 else:
                     rng.random((j, 4, k))
-        if reason != R_BATCH:
+        if reason == R_FIELD:  # a recruit or foot robot reached cells its field has not settled yet
+            if kind == K_RECRUIT:
+                for f, _, _ in fields:
+                    f.extend(f.front)
+                f_cost, f_nxt, f_closed, f_goal = _stacked([f for f, _, _ in fields])
+                rec_f[:, 6] = [f.front for f, _, _ in fields]
+            if job == J_DRIVE:
+                for f in jfields:
+                    f.extend(f.front)
+                j_cost, j_nxt, j_closed, j_goal = _stacked(jfields)
+                job_f[:, 4] = [f.front for f in jfields]
+        elif reason != R_BATCH:
             break
         sf[1], sf[14] = front, progress
         batch = min(2 * batch, _MAX_BATCH)

@@ -47,11 +47,12 @@ if HAVE_NUMBA:
         return d1 < d2 or (d1 == d2 and i1 > i2)
 
     @numba.njit(cache=True, inline="always")
-    def _scan(v, vd, ip, ix, wt, closed, limit, dist, pred, hd, hi, size):  # pragma: no cover - compiled
-        """Relax the CSR row of ``v`` (pushing improved neighbours); returns the heap's new size
-        (the heap has room for every push: at most one per directed edge). An edge into a closed
-        cell weighs ``ew + 1e9`` in navigation, more than any limit used: it is never relaxed."""
-        for e in range(ip[v], ip[v + 1]):
+    def _scan(v, vd, lo, hi_e, ix, wt, closed, limit, dist, pred, hd, hi, size):  # pragma: no cover - compiled
+        """Relax the entries ``lo:hi_e`` of ``v``'s CSR row (pushing improved neighbours); returns
+        the heap's new size (the heap has room for every push: at most one per directed edge). An
+        edge into a closed cell weighs ``ew + 1e9`` in navigation, more than any limit used: it is
+        never relaxed."""
+        for e in range(lo, hi_e):
             j = ix[e]
             if closed[j]:
                 continue
@@ -74,21 +75,19 @@ if HAVE_NUMBA:
         return size
 
     @numba.njit(cache=True)
-    def dijkstra_grid(n, source, closed, indptr, indices, ew_csr, indptr_t, indices_t, ew_csr_t,
-                      limit):  # pragma: no cover - compiled
-        """(dist, pred) from ``source`` over the edges between open cells (``closed[source]`` is
-        False); ``ew_csr``/``ew_csr_t``: the edge lengths in each CSR's entry order; ``limit`` <
-        the closed-edge weight (1e9)."""
-        dist = np.full(n, np.inf)
-        pred = np.full(n, NULL_IDX, np.int64)
-        cap = indices.shape[0] + indices_t.shape[0] + 1
-        hd = np.empty(cap)
-        hi = np.empty(cap, np.int64)
-        dist[source] = 0.0
-        hd[0] = 0.0
-        hi[0] = source
-        size = 1
-        while size:
+    def dijkstra_resume(source, closed, indptr, indices, ew_csr, indptr_t, indices_t, ew_csr_t, limit, extra_j,
+                        extra_w, dist, pred, hd, hi, size, until):  # pragma: no cover - compiled
+        """Continue a search (the heap ``hd``/``hi`` of ``size`` entries, ``dist``/``pred`` so far)
+        while the heap's top distance is ``<= until``; returns (size, hd, hi), the heap arrays
+        grown (doubled) when a scan needs room. Stopping and resuming pops exactly the entries one
+        uninterrupted run pops, in the same order: every cell whose distance is below the new top
+        (``hd[0]``) is final, the rest are at least that far.
+
+        Arguments as :func:`dijkstra_grid`'s; ``extra_j``/``extra_w``: edges from the source to
+        these cells (sorted, lengths in cm) added to the graph: the goal in a cell the static grid
+        calls blocked joins its open neighbours (its own CSR rows are empty then, so scipy, given
+        the same edges in the matrix, scans exactly these first)."""
+        while size and hd[0] <= until:
             vd = hd[0]
             v = hi[0]
             size -= 1
@@ -118,9 +117,52 @@ if HAVE_NUMBA:
                 hi[k] = li
             if dist[v] < vd:
                 continue
-            size = _scan(v, vd, indptr, indices, ew_csr, closed, limit, dist, pred, hd, hi, size)
-            size = _scan(v, vd, indptr_t, indices_t, ew_csr_t, closed, limit, dist, pred, hd, hi, size)
+            need = size + indptr[v + 1] - indptr[v] + indptr_t[v + 1] - indptr_t[v] + extra_j.shape[0]
+            if need > hd.shape[0]:
+                cap = max(2 * hd.shape[0], need)
+                nd = np.empty(cap)
+                ni = np.empty(cap, np.int64)
+                nd[:size] = hd[:size]
+                ni[:size] = hi[:size]
+                hd = nd
+                hi = ni
+            if v == source:
+                size = _scan(v, vd, 0, extra_j.shape[0], extra_j, extra_w, closed, limit, dist, pred, hd, hi, size)
+            size = _scan(v, vd, indptr[v], indptr[v + 1], indices, ew_csr, closed, limit, dist, pred, hd, hi, size)
+            size = _scan(v, vd, indptr_t[v], indptr_t[v + 1], indices_t, ew_csr_t, closed, limit, dist, pred, hd,
+                         hi, size)
+        return size, hd, hi
+
+    @numba.njit(cache=True)
+    def dijkstra_grid(n, source, closed, indptr, indices, ew_csr, indptr_t, indices_t, ew_csr_t,
+                      limit, extra_j, extra_w):  # pragma: no cover - compiled
+        """(dist, pred) from ``source`` over the edges between open cells (``closed[source]`` is
+        False), the whole search at once; ``ew_csr``/``ew_csr_t``: the edge lengths in each CSR's
+        entry order; ``limit`` < the closed-edge weight (1e9); ``extra_j``/``extra_w`` as
+        :func:`dijkstra_resume`'s."""
+        dist = np.full(n, np.inf)
+        pred = np.full(n, NULL_IDX, np.int64)
+        hd = np.empty(256)
+        hi = np.empty(256, np.int64)
+        dist[source] = 0.0
+        hd[0] = 0.0
+        hi[0] = source
+        dijkstra_resume(source, closed, indptr, indices, ew_csr, indptr_t, indices_t, ew_csr_t, limit, extra_j,
+                        extra_w, dist, pred, hd, hi, 1, np.inf)
         return dist, pred
 
 
-__all__ = ["NULL_IDX", "csr_pair"] + (["dijkstra_grid"] if HAVE_NUMBA else [])
+def dijkstra_start(n: int, source: int, capacity: int = 256):
+    """A search's arrays before its first pop: ``dist``/``pred`` over ``n`` cells, the heap
+    (``capacity`` entries, grown as needed) holding the source at distance 0 (size 1)."""
+    dist = np.full(n, np.inf)
+    pred = np.full(n, NULL_IDX, np.int64)
+    hd = np.empty(capacity)
+    hi = np.empty(capacity, np.int64)
+    dist[source] = 0.0
+    hd[0] = 0.0
+    hi[0] = source
+    return dist, pred, hd, hi
+
+
+__all__ = ["NULL_IDX", "csr_pair", "dijkstra_start"] + (["dijkstra_grid", "dijkstra_resume"] if HAVE_NUMBA else [])

@@ -16,6 +16,13 @@ Cell size is a third of the robot's smaller side (see :data:`MAX_CELLS`). The gr
 (:func:`nav_grid`, cached); a field is cached by its goal cell and the structure's
 footprint, so the robots recruited for one row share the work.
 
+A field is settled lazily (:class:`CostField`): the search from the goal stops as soon as the
+question asked (which free robot is nearest, where this robot drives next) has its final
+answer, and resumes when a robot asks beyond what is settled. The search pops cells in one
+fixed order, so every answer is the one the whole search gives (``EAGER`` settles each field
+whole, for the tests that compare); on the large-void arena a recruit call settles about a
+quarter of the 100,000 cells instead of all the reachable half.
+
 The moving structure itself ignores obstacles (the thesis's assumption 13, Ch. 4.4):
 only the robots that drive to it plan around them.
 """
@@ -30,12 +37,16 @@ import numpy as np
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
-from .dijkstra import csr_pair
+from .dijkstra import csr_pair, dijkstra_start
 from .grid import HAVE_NUMBA
 from .world import World
 
 if HAVE_NUMBA:
-    from .dijkstra import dijkstra_grid
+    from .dijkstra import dijkstra_resume
+
+#: settle every cost field whole when it is made (the search as it was before it became lazy:
+#: the tests run both ways and compare)
+EAGER = False
 
 #: edges into a blocked cell get this weight; a cost above :data:`BLOCKED` is "no path"
 _BLOCK_W = 1e9
@@ -150,43 +161,158 @@ def footprint_mask(grid: NavGrid, cx: np.ndarray, cy: np.ndarray, half_x: float,
     return blocked
 
 
+class _Search:
+    """A Dijkstra search left part-way (:func:`swarm_sim.dijkstra.dijkstra_resume`): its heap and
+    the graph it runs on; ``version`` counts the resumes (copies of the field key on it)."""
+
+    __slots__ = ("args", "hd", "hi", "size", "version")
+
+    def __init__(self, args: tuple, hd: np.ndarray, hi: np.ndarray) -> None:
+        self.args, self.hd, self.hi, self.size, self.version = args, hd, hi, 1, 0
+
+
 @dataclass(frozen=True, eq=False)
 class CostField:
-    """Path length (cm) from every cell to the goal cell, and the next cell on that path."""
+    """Path length (cm) from every cell to the goal cell, and the next cell on that path.
+
+    Computed lazily: the search from the goal stops once what was asked is known and resumes
+    when a farther cell is asked for. A cell whose ``cost`` is below :attr:`front` is final (its
+    path and every cell on it too); the others are at least :attr:`front` away. Every method
+    answers exactly what the whole search would (its pops are the whole search's first ones, in
+    order): it settles more cells first when the answer depends on one not yet final."""
 
     grid: NavGrid
     goal_x: float
     goal_y: float
     goal_cell: int
-    cost: np.ndarray     # (cells,) cm; > BLOCKED: no path
+    cost: np.ndarray     # (cells,) cm; > BLOCKED: no path (for cells beyond the front: not yet known)
     nxt: np.ndarray      # (cells,) next cell towards the goal (-9999 at the goal / no path)
     closed: np.ndarray   # (cells,) bool: cells a turning robot cannot occupy
+    search: _Search | None = None  # None: the search is complete
+
+    @property
+    def front(self) -> float:
+        """Every cell costing less than this (cm) is final; ``inf`` once the search is complete."""
+        s = self.search
+        return math.inf if s is None else float(s.hd[0])
+
+    @property
+    def version(self) -> int:
+        """Changes whenever more cells are settled (-1 once complete)."""
+        return -1 if self.search is None else self.search.version
+
+    def settle(self, until_cm: float) -> None:
+        """Settle every cell whose cost is at most ``until_cm`` (``inf``: all)."""
+        s = self.search
+        if s is None or not s.size or s.hd[0] > until_cm:
+            return
+        s.size, s.hd, s.hi = dijkstra_resume(*s.args, self.cost, self.nxt, s.hd, s.hi, s.size, float(until_cm))
+        s.version += 1
+        if not s.size:
+            object.__setattr__(self, "search", None)
+
+    def extend(self, read: float) -> None:
+        """Settle beyond a value read that was not yet final (``read``: the cost read, cm, or
+        ``inf``), with a margin so a robot driving along the field does not ask again at once."""
+        base = max(self.front, read if read < BLOCKED else 0.0)
+        self.settle(base + max(20.0 * self.grid.cell_cm, 0.25 * base))
+
+    def known(self, read: float) -> bool:
+        """A value read from :attr:`cost` (or the best of a window of it) is final."""
+        return self.search is None or read < self.front
+
+    def final(self, read: float, x: float, y: float) -> bool:
+        """:meth:`known`, or the robot at (x, y) stands in a closed cell with no open cell in its
+        window (``inf``, however far the search goes)."""
+        if self.known(read):
+            return True
+        g = self.grid
+        return bool(self.closed[g.cell(x, y)] and self.closed[self._window(x, y)].all())
+
+    def _window(self, x: float, y: float) -> np.ndarray:
+        """The cells within :attr:`NavGrid.window` of (x, y)."""
+        g = self.grid
+        i, j = min(g.nx - 1, max(0, int(x // g.cell_cm))), min(g.ny - 1, max(0, int(y // g.cell_cm)))
+        j0, j1, i0, i1 = max(0, j - g.window), min(g.ny, j + g.window + 1), max(0, i - g.window), \
+            min(g.nx, i + g.window + 1)
+        return (np.arange(j0, j1)[:, None] * g.nx + np.arange(i0, i1)[None, :]).ravel()
 
     def cost_at(self, x: float, y: float) -> float:
         """Path length (cm) from a robot at (x, y): its cell's, or (next to a wall) the best
         neighbouring cell's plus the step to it; ``inf`` when there is no path."""
-        c = self.grid.cell(x, y)
-        v = float(self.cost[c])
-        if v < BLOCKED:
-            return v + math.hypot(x - self.grid.cx[c], y - self.grid.cy[c])
-        if not self.closed[c]:
-            return math.inf  # an open cell with no path: walled in
-        best, _ = self._near(x, y)
-        return best
+        while True:
+            c = self.grid.cell(x, y)
+            v = float(self.cost[c])
+            if v < BLOCKED and self.known(v):
+                return v + math.hypot(x - self.grid.cx[c], y - self.grid.cy[c])
+            if not self.closed[c]:
+                if self.known(v):
+                    return math.inf  # an open cell with no path: walled in
+                self.extend(v)
+                continue
+            best, _ = self._near(x, y)
+            if self.final(best, x, y):
+                return best
+            self.extend(best)
 
     def costs(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         """:meth:`cost_at` for many robots."""
         return np.array([self.cost_at(float(a), float(b)) for a, b in zip(x, y, strict=True)])
 
+    def nearest(self, x: np.ndarray, y: np.ndarray) -> tuple[int, float]:
+        """Index of the robot at (x[i], y[i]) with the shortest path (the first of equals) and
+        its path length (cm); (-1, inf) when none has a path. The same answer as the argmin of
+        :meth:`path_costs`, settling only as far as the nearest robot needs."""
+        if len(x) == 0:
+            return -1, math.inf
+        g = self.grid
+        c = g.cells(x, y)
+        walled = np.flatnonzero(self.closed[c])  # their own cell's cost is never set: they look round
+        while True:
+            front = self.front
+            raw = self.cost[c]
+            v = raw + np.hypot(x - g.cx[c], y - g.cy[c])
+            final = raw < front  # a robot beyond the front is at least the front away
+            for i in walled:  # final when the best of its window is below the front (cost_at's rule)
+                v[i], _ = self._near(float(x[i]), float(y[i]))
+                final[i] = self.final(v[i], float(x[i]), float(y[i]))
+            if self.search is None:
+                v = np.where(v >= BLOCKED, np.inf, v)
+                i = int(np.argmin(v))
+                return (i, float(v[i])) if np.isfinite(v[i]) else (-1, math.inf)
+            vk = np.where(final, v, np.inf)
+            i = int(np.argmin(vk))
+            best = float(vk[i])
+            if best < front:
+                return i, best
+            # just past the best final candidate; none yet: a little farther (the search's own
+            # rings, so the settled area stays close to the nearest robot's)
+            self.settle(best if best < BLOCKED else 1.25 * front + 4.0 * g.cell_cm)
+
+    def path_costs(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """Path length (cm) of each robot to the goal (``inf``: no path), all final."""
+        if len(x) == 0:
+            return np.zeros(0)
+        g = self.grid
+        c = g.cells(x, y)
+        while True:
+            raw = self.cost[c]
+            open_unknown = ~self.closed[c] & (raw >= self.front)
+            if self.search is None or not open_unknown.any():
+                break
+            self.extend(float(np.max(np.where(raw[open_unknown] < BLOCKED, raw[open_unknown], 0.0))))
+        v = self.cost[c] + np.hypot(x - g.cx[c], y - g.cy[c])
+        bad = (self.cost[c] >= BLOCKED) & self.closed[c]
+        for i in np.flatnonzero(bad):
+            v[i] = self.cost_at(float(x[i]), float(y[i]))
+        return np.where(v >= BLOCKED, np.inf, v)
+
     def _near(self, x: float, y: float) -> tuple[float, int]:
         """Best open cell within :attr:`NavGrid.window` cells (path cost plus the straight step
         to it): for a robot standing where the grid is closed (by a wall, or among the
-        structure's robots after stepping off a foot)."""
+        structure's robots after stepping off a foot). The value is final when :meth:`known`."""
         g = self.grid
-        i, j = min(g.nx - 1, max(0, int(x // g.cell_cm))), min(g.ny - 1, max(0, int(y // g.cell_cm)))
-        j0, j1, i0, i1 = max(0, j - g.window), min(g.ny, j + g.window + 1), max(0, i - g.window), \
-            min(g.nx, i + g.window + 1)
-        idx = (np.arange(j0, j1)[:, None] * g.nx + np.arange(i0, i1)[None, :]).ravel()
+        idx = self._window(x, y)
         v = self.cost[idx]
         v = np.where(v < BLOCKED, v + np.hypot(x - g.cx[idx], y - g.cy[idx]), np.inf)
         k = int(np.argmin(v))
@@ -197,14 +323,21 @@ class CostField:
         point once the path reaches the goal cell, ``None`` when there is no path."""
         g = self.grid
         c = g.cell(x, y)
-        if self.cost[c] >= BLOCKED:
-            if not self.closed[c]:
+        while True:
+            v = float(self.cost[c])
+            if self.closed[c]:
+                best, near = self._near(x, y)
+                if not self.final(best, x, y):
+                    self.extend(best)
+                    continue
+                return None if near < 0 else (float(g.cx[near]), float(g.cy[near]))
+            if not self.known(v):
+                self.extend(v)
+                continue
+            if v >= BLOCKED:
                 return None
-            _, c = self._near(x, y)
-            if c < 0:
-                return None
-            return float(g.cx[c]), float(g.cy[c])
-        for _ in range(_HOPS):
+            break
+        for _ in range(_HOPS):  # the path from a final cell is final
             if c == self.goal_cell:
                 return self.goal_x, self.goal_y
             c = int(self.nxt[c])
@@ -253,33 +386,44 @@ def cost_field(world: World, goal_x: float, goal_y: float, blocked=None, blocked
     if blocked is not None:
         closed |= blocked
     closed[gc] = False
-    if HAVE_NUMBA and grid.free[gc]:  # the same search compiled (swarm_sim.dijkstra: scipy's answer bit for bit)
-        ip, ix, ew_c, ipt, ixt, ew_t = _csr(grid)
-        cost, pred = dijkstra_grid(n, gc, closed, ip, ix, ew_c, ipt, ixt, ew_t, BLOCKED)
-        f = CostField(grid, float(goal_x), float(goal_y), gc, cost, pred, closed)
-        _FIELDS[key] = f
-        while len(_FIELDS) > 64:
-            _FIELDS.popitem(last=False)
-        return f
-    w = grid.ew + _BLOCK_W * (closed[grid.ei] | closed[grid.ej])
     # the goal cell joins its open neighbours even when the static grid calls it blocked
-    extra_i, extra_j, extra_w = [], [], []
-    if not grid.free[gc]:
-        gi, gj = gc % grid.nx, gc // grid.nx
-        for dj in (-1, 0, 1):
-            for di in (-1, 0, 1):
-                ii, jj = gi + di, gj + dj
-                if (di or dj) and 0 <= ii < grid.nx and 0 <= jj < grid.ny and not closed[jj * grid.nx + ii]:
-                    extra_i.append(gc)
-                    extra_j.append(jj * grid.nx + ii)
-                    extra_w.append(math.hypot(di, dj) * grid.cell_cm)
-    ei = np.concatenate([grid.ei, np.array(extra_i, dtype=np.int64)])
-    ej = np.concatenate([grid.ej, np.array(extra_j, dtype=np.int64)])
-    ww = np.concatenate([w, np.array(extra_w)])
+    extra_j, extra_w = _goal_edges(grid, gc, closed)
+    if HAVE_NUMBA:  # the same search compiled (swarm_sim.dijkstra: scipy's answer bit for bit), lazily
+        cost, pred, hd, hi = dijkstra_start(n, gc)
+        search = _Search((gc, closed, *_csr(grid), BLOCKED, extra_j, extra_w), hd, hi)
+        f = CostField(grid, float(goal_x), float(goal_y), gc, cost, pred, closed, search)
+        if not EAGER:
+            f.settle(0.0)
+        else:
+            f.settle(math.inf)
+        return _cache_field(key, f)
+    w = grid.ew + _BLOCK_W * (closed[grid.ei] | closed[grid.ej])
+    ei = np.concatenate([grid.ei, np.full(len(extra_j), gc, dtype=np.int64)])
+    ej = np.concatenate([grid.ej, extra_j])
+    ww = np.concatenate([w, extra_w])
     graph = csr_matrix((ww, (ei, ej)), shape=(n, n))
     cost, pred = dijkstra(graph, directed=False, indices=gc, return_predecessors=True, limit=BLOCKED)
     cost = np.where(np.isfinite(cost), cost, np.inf)
-    f = CostField(grid, float(goal_x), float(goal_y), gc, cost, pred.astype(np.int64), closed)
+    return _cache_field(key, CostField(grid, float(goal_x), float(goal_y), gc, cost, pred.astype(np.int64), closed))
+
+
+def _goal_edges(grid: NavGrid, gc: int, closed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Edges (target cells in increasing order, lengths in cm) joining a goal cell the static grid
+    calls blocked to its open neighbours; none when the goal cell is free (its edges exist)."""
+    if grid.free[gc]:
+        return np.zeros(0, np.int64), np.zeros(0)
+    gi, gj = gc % grid.nx, gc // grid.nx
+    cells, lengths = [], []
+    for dj in (-1, 0, 1):
+        for di in (-1, 0, 1):
+            ii, jj = gi + di, gj + dj
+            if (di or dj) and 0 <= ii < grid.nx and 0 <= jj < grid.ny and not closed[jj * grid.nx + ii]:
+                cells.append(jj * grid.nx + ii)
+                lengths.append(math.hypot(di, dj) * grid.cell_cm)
+    return np.array(cells, dtype=np.int64), np.array(lengths, dtype=float)
+
+
+def _cache_field(key, f: CostField) -> CostField:
     _FIELDS[key] = f
     while len(_FIELDS) > 64:
         _FIELDS.popitem(last=False)

@@ -29,7 +29,7 @@ import numpy as np
 from . import structure as S
 from .faults import DRIVE, TOTAL
 from .motion import drive_along, goto
-from .navigation import BLOCKED, CostField, cost_field, disc_clear, footprint_mask, nav_grid
+from .navigation import CostField, cost_field, disc_clear, footprint_mask, nav_grid
 from .params import Params
 from .retreat import start_retreat
 from .state import OPEN, Mode, Structure
@@ -138,15 +138,7 @@ def _slot_field(st: Structure, p: Params, world: World, slot: int) -> tuple[Cost
 
 def path_costs(field: CostField, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Path length (cm) of each robot to the field's goal (``inf``: no path)."""
-    if len(x) == 0:
-        return np.zeros(0)
-    g = field.grid
-    c = g.cells(x, y)
-    v = field.cost[c] + np.hypot(x - g.cx[c], y - g.cy[c])
-    bad = (field.cost[c] >= BLOCKED) & field.closed[c]
-    for i in np.flatnonzero(bad):
-        v[i] = field.cost_at(float(x[i]), float(y[i]))
-    return np.where(v >= BLOCKED, np.inf, v)
+    return field.path_costs(x, y)
 
 
 def closest(fields: list[CostField], pool: list[int], x: np.ndarray, y: np.ndarray) -> list[int]:
@@ -157,9 +149,8 @@ def closest(fields: list[CostField], pool: list[int], x: np.ndarray, y: np.ndarr
     for f in fields:
         if not pool:
             break
-        d = path_costs(f, x[pool], y[pool])
-        i = int(np.argmin(d))
-        if not np.isfinite(d[i]):
+        i, _ = f.nearest(x[pool], y[pool])  # the argmin of path_costs, settling no farther than it needs
+        if i < 0:
             break
         chosen.append(int(pool.pop(i)))
     return chosen

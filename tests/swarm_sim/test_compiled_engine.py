@@ -231,9 +231,44 @@ def test_compiled_dijkstra_is_scipys_bit_for_bit(preset, n, w):
         want_cost, want_pred = dijkstra(csr_matrix((wt, (g.ei, g.ej)), shape=(cells, cells)), directed=False,
                                         indices=gc, return_predecessors=True, limit=N.BLOCKED)
         closed[gc] = False
-        cost, pred = dijkstra_grid(cells, gc, closed, ip, ix, ew_c, ipt, ixt, ew_t, N.BLOCKED)
+        cost, pred = dijkstra_grid(cells, gc, closed, ip, ix, ew_c, ipt, ixt, ew_t, N.BLOCKED, np.zeros(0, np.int64),
+                                   np.zeros(0))
         assert np.array_equal(cost, want_cost) and np.array_equal(pred, want_pred.astype(np.int64))
         assert np.isfinite(cost).sum() > 0.3 * (~closed).sum()  # the search really spread
+
+
+def test_a_goal_where_the_static_grid_is_blocked_is_scipys_too(monkeypatch):
+    """A staging or approach point next to a wall (its cell blocked in the static grid, opened for
+    the goal and joined to its open neighbours): the compiled search gives the scipy path's
+    field bit for bit, so neither engine falls back to building a sparse matrix per call."""
+    from swarm_sim import navigation as N
+    from swarm_sim.world import World
+
+    world = World.from_params(resolve_params("large-void", 70, 8, "derived"))
+    g = N.nav_grid(world)
+    blocked = np.flatnonzero(~g.free)
+    rng = np.random.default_rng(3)
+    picks = [int(c) for c in rng.choice(blocked, 6, replace=False)]
+    # and one goal hard against the arena's corner, with few open neighbours
+    picks.append(int(np.flatnonzero(~g.free & np.roll(g.free, -g.nx - 1))[0]))
+    for gc in picks:
+        gx, gy = float(g.cx[gc]), float(g.cy[gc])
+        N._FIELDS.clear()
+        got = N.cost_field(world, gx, gy)
+        got.settle(math.inf)  # fields are settled lazily: the whole of it
+        N._FIELDS.clear()
+        monkeypatch.setattr(N, "HAVE_NUMBA", False)
+        want = N.cost_field(world, gx, gy)
+        monkeypatch.setattr(N, "HAVE_NUMBA", True)
+        N._FIELDS.clear()
+        assert np.array_equal(got.cost, want.cost) and np.array_equal(got.nxt, want.nxt)
+    assert any(_settled(N.cost_field(world, float(g.cx[c]), float(g.cy[c]))) > 1000 for c in picks)
+
+
+def _settled(field) -> int:
+    """Cells with a path once the (lazy) field is settled whole."""
+    field.settle(math.inf)
+    return int(np.isfinite(field.cost).sum())
 
 
 def test_cli_engine_flag_gives_the_same_run_and_a_bad_name_is_one_error_line(cli):
