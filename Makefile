@@ -32,8 +32,12 @@ $(STAMP): pyproject.toml | $(BIN)/python
 # installed from Debian's packages when missing and we are root with apt; otherwise a clear
 # line says what will not be tested (under CI=true those tests fail instead of skipping).
 CLIENTS := prusa-slicer chromium
+# Debian libraries (not commands) the renders need: VTK draws offscreen through EGL with Mesa's
+# software rasteriser (cubot_cad/render.py); checked with dpkg where there is one, installed with the clients.
+GL_LIBS := libegl1 libegl-mesa0 libgl1-mesa-dri
 clients:
 	@missing=""; for c in $(CLIENTS); do command -v $$c >/dev/null 2>&1 || missing="$$missing $$c"; done; \
+	if command -v dpkg >/dev/null 2>&1; then for p in $(GL_LIBS); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; fi; \
 	if [ -z "$$missing" ]; then exit 0; fi; \
 	if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
 	  echo "installing$$missing from Debian's packages (log: .clients-install.log)"; \

@@ -36,7 +36,7 @@ def _size_text(c) -> str:
                 f"(holes {sv.hole_spacing_mm:g} mm apart), {sv.horn.spline} spline")
     if c.kind == "box":
         return " x ".join(f"{v:g}" for v in c.size_mm) + " mm"
-    if c.kind == "cyl_y":
+    if c.kind in ("cyl_y", "cyl_z"):
         return f"diameter {c.size_mm[0]:g} x {c.size_mm[1]:g} mm"
     return f"diameter {c.size_mm[0]:g} mm"
 

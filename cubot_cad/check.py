@@ -2,8 +2,12 @@
 
 Per STL: watertight and a valid volume (trimesh), manifold (manifold3d status
 ``NoError``), fits the bed (250 x 210 x 210 mm, as oriented), thinnest wall
->= 0.8 mm, and, when ``prusa-slicer`` is on PATH, a headless slice that
-records print time and filament.
+>= 0.8 mm, and, when ``prusa-slicer`` is on PATH, a headless slice with the
+part's print settings as ``manifest.json`` records them (:mod:`cubot_cad.slicing`:
+layer height, perimeters, infill, supports; the material's filament density),
+which gives print time (s), filament (g) and the printed mass (g, supports and
+skirt removed). :func:`slicing_totals` sums them per robot, beside the
+solid-model mass.
 
 Thin-wall probe: points are sampled uniformly over the surface; from each a
 ray goes inward along the negative face normal and the first exit is found
@@ -16,28 +20,18 @@ thinnest wall is the minimum over the accepted samples.
 from __future__ import annotations
 
 import os
-import re
-import shutil
-import subprocess
-import tempfile
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
 from .errors import InputError
-from .part import BED_MM, MIN_WALL_MM
+from .part import BED_MM, MIN_WALL_MM, PRINT_DEFAULTS, Part, material
+from .slicing import SliceResult, robot_totals, slice_stl, slicer_path  # noqa: F401  (re-exported)
 
 WALL_SAMPLES = 3000
 OPPOSITE_COS = -0.7071
-
-
-@dataclass
-class SliceResult:
-    ok: bool
-    print_time: str | None = None
-    filament_g: float | None = None
-    detail: str = ""
 
 
 @dataclass
@@ -94,30 +88,36 @@ def fits_bed(size_mm) -> bool:
     return z <= bz and ((x <= bx and y <= by) or (y <= bx and x <= by))
 
 
-def slicer_path() -> str | None:
-    return shutil.which("prusa-slicer") or shutil.which("prusa-slicer-console")
+@lru_cache(maxsize=8)
+def _manifest_at(root: str, mtime_ns: int) -> dict | None:
+    from .export import load_manifest
+
+    try:
+        return load_manifest(Path(root))
+    except InputError:
+        return None
 
 
-def slice_stl(path: Path, density_g_cm3: float = 1.04, timeout_s: float = 300) -> SliceResult:
-    """Slice with prusa-slicer (headless) and read print time and filament from the G-code header."""
-    exe = slicer_path()
-    if exe is None:
-        return SliceResult(False, detail="prusa-slicer not on PATH")
-    with tempfile.TemporaryDirectory() as td:
-        gcode = Path(td) / "out.gcode"
-        cmd = [exe, "--export-gcode", str(path), "--output", str(gcode), "--filament-density", str(density_g_cm3)]
-        try:
-            proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout_s)
-        except subprocess.TimeoutExpired:
-            return SliceResult(False, detail=f"prusa-slicer timed out after {timeout_s:g} s")
-        if proc.returncode != 0 or not gcode.exists():
-            return SliceResult(False, detail=(proc.stderr or proc.stdout).strip().splitlines()[-1:] and
-                               (proc.stderr or proc.stdout).strip().splitlines()[-1] or f"exit {proc.returncode}")
-        text = gcode.read_text(errors="replace")
-    t = re.search(r";\s*estimated printing time \(normal mode\)\s*=\s*(.+)", text)
-    g = re.search(r";\s*total filament used \[g\]\s*=\s*([0-9.]+)", text) or \
-        re.search(r";\s*filament used \[g\]\s*=\s*([0-9.]+)", text)
-    return SliceResult(True, t.group(1).strip() if t else None, float(g.group(1)) if g else None, "sliced")
+def manifest_for(root: Path | None) -> dict | None:
+    """The export's ``manifest.json`` under ``root`` (cached while the file is unchanged), or None."""
+    if root is None or not (Path(root) / "manifest.json").is_file():
+        return None
+    return _manifest_at(str(Path(root).resolve()), (Path(root) / "manifest.json").stat().st_mtime_ns)
+
+
+def recorded_settings(path: Path, root: Path | None) -> tuple[dict, float, str]:
+    """(print settings, filament density g/cm^3, where they come from) for the STL ``path``: its
+    ``manifest.json`` entry under ``root`` when there is one, else the shared defaults
+    (:data:`~cubot_cad.part.PRINT_DEFAULTS`, 25 % infill, no supports) in ABS."""
+    man = manifest_for(root)
+    if man is not None:
+        from .slicing import density_g_cm3, part_entry
+
+        entry = part_entry(man, Path(path).relative_to(root).as_posix())
+        if entry is not None and entry.get("print_settings"):
+            return dict(entry["print_settings"]), density_g_cm3(man), "manifest.json"
+    return ({**PRINT_DEFAULTS, "infill_percent": Part.infill_percent, "supports": False},
+            material("abs")["density_kg_m3"] / 1000.0, "defaults (no manifest entry)")
 
 
 def check_file(path: Path, root: Path | None = None, do_slice: bool = True, samples: int = WALL_SAMPLES) -> PartCheck:
@@ -143,7 +143,8 @@ def check_file(path: Path, root: Path | None = None, do_slice: bool = True, samp
         if slicer_path() is None:
             sl = {"skipped": True, "ok": None, "detail": "prusa-slicer not on PATH (apt install prusa-slicer)"}
         else:
-            sl = asdict(slice_stl(path))
+            settings, rho, source = recorded_settings(path, root)
+            sl = {**slice_stl(path, settings, rho).summary(), "settings": settings, "settings_source": source}
     rel = str(path.relative_to(root)) if root else str(path)
     return PartCheck(rel, watertight, manifold, fits_bed(size), [round(s, 3) for s in size],
                      None if wall is None else round(wall, 3), wall is not None and wall >= MIN_WALL_MM - 1e-6,
@@ -160,3 +161,22 @@ def stl_files(directory: str | os.PathLike) -> list[Path]:
     if not files:
         raise InputError(f"no .stl files under {d} (run `voidcross cad export --out {d}` first)")
     return files
+
+
+def slicing_totals(results: list[PartCheck], root: Path | None) -> dict:
+    """Per robot (from ``manifest.json`` under ``root``): print time (s), filament (g), printed mass (g)
+    and the solid-model mass (g) over its per-robot parts times their quantities, from the checks'
+    slices (:func:`cubot_cad.slicing.robot_totals`); {} without a manifest or slices."""
+    man = manifest_for(root)
+    if man is None:
+        return {}
+    from .slicing import part_entry
+
+    rows = []
+    for r in results:
+        entry = part_entry(man, r.file)
+        if entry is None or not r.slice or r.slice.get("skipped"):
+            continue
+        rows.append({"robot": entry["robot"], "quantity": entry["quantity"], "per": entry.get("per", "robot"),
+                     "solid_mass_g": entry["mass_g"], "slice": r.slice})
+    return robot_totals(rows)

@@ -21,8 +21,12 @@ from .errors import InputError
 class Component:
     """``count`` identical items, one per entry of ``positions_mm``.
 
-    ``kind``: ``box`` (size = x, y, z), ``cyl_y`` (size = diameter, width along y),
-    ``sphere`` (size = diameter). Masses in grams.
+    ``kind``: ``box`` (size = x, y, z), ``cyl_y`` (size = diameter, width along y), ``cyl_z``
+    (size = diameter, length along z), ``sphere`` (size = diameter). Masses in grams.
+
+    ``lump``: a mass spread through the robot (screws, wires), modelled as a homogeneous box for the
+    mass properties only: it has no stand-in solid (:meth:`solids` is empty), so it is neither drawn
+    nor checked for room (every other component's stand-in must overlap nothing).
     """
 
     key: str
@@ -33,11 +37,12 @@ class Component:
     kind: str = "box"
     role: str = "electronics"
     colour: tuple[float, float, float] = (0.2, 0.4, 0.8)
+    lump: bool = False
 
     def __post_init__(self) -> None:
         if not (self.unit_mass_g > 0):
             raise InputError(f"component {self.key}: unit_mass_g must be > 0, got {self.unit_mass_g}")
-        if self.kind not in ("box", "cyl_y", "sphere"):
+        if self.kind not in ("box", "cyl_y", "cyl_z", "sphere"):
             raise InputError(f"component {self.key}: unknown kind {self.kind!r}")
         if not self.positions_mm:
             raise InputError(f"component {self.key}: no positions")
@@ -55,9 +60,11 @@ class Component:
         if self.kind == "box":
             a, b, c = s
             return m / 12 * np.diag([b * b + c * c, a * a + c * c, a * a + b * b])
-        if self.kind == "cyl_y":
+        if self.kind in ("cyl_y", "cyl_z"):
             r, h = s[0] / 2, s[1]
             i_perp = m * (3 * r * r + h * h) / 12
+            if self.kind == "cyl_z":
+                return np.diag([i_perp, i_perp, m * r * r / 2])
             return np.diag([i_perp, m * r * r / 2, i_perp])
         r = s[0] / 2
         return np.eye(3) * (2 / 5) * m * r * r
@@ -68,10 +75,12 @@ class Component:
         return [(m, np.array(p, dtype=float) * 1e-3, self._own_inertia(m)) for p in self.positions_mm]
 
     def solids(self):
-        """Stand-in solids (mm) for assemblies, renders and ground contact."""
-        from .shapes import Y, box, cyl, sphere
+        """Stand-in solids (mm) for assemblies, renders and ground contact (none for a ``lump``)."""
+        from .shapes import Y, Z, box, cyl, sphere
 
         out = []
+        if self.lump:
+            return out
         for x, y, z in self.positions_mm:
             if self.kind == "box":
                 a, b, c = self.size_mm
@@ -79,6 +88,9 @@ class Component:
             elif self.kind == "cyl_y":
                 d, w = self.size_mm[:2]
                 out.append(cyl(d / 2, w, (x, y - w / 2, z), Y))
+            elif self.kind == "cyl_z":
+                d, h = self.size_mm[:2]
+                out.append(cyl(d / 2, h, (x, y, z - h / 2), Z))
             else:
                 out.append(sphere(self.size_mm[0] / 2, (x, y, z)))
         return out

@@ -33,6 +33,7 @@ from .part import (
     at_least,
     at_most,
     check_clearance,
+    check_lengths,
     need,
 )
 
@@ -42,11 +43,6 @@ PIN_ANGLES_DEG = (90.0, 210.0, 330.0)
 #: extrusion width; as printed the overlap is larger (the over-extrusion the clearance
 #: compensates narrows the slot and fattens the pin).
 MIN_LATCH_OVERLAP_MM = NOZZLE_MM / 2
-
-
-def _pos_ok(name: str, value: float) -> None:
-    need(isinstance(value, (int, float)) and math.isfinite(value) and value > 0,
-         f"{name} must be a positive length in mm, got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -77,6 +73,11 @@ class FrontRearSpec:
     #: they set the lateral capture (``capture_estimate_mm``); 0 = no lead-in (sharp edges).
     pin_chamfer_mm: float = 0.6
     hole_chamfer_mm: float = 0.8
+    #: The pins print lying down (layers along the axis, so the pull at the groove neck runs along
+    #: them, not across): on a flat along the whole pin, at most ``pin_flat_max_mm`` deep, and never
+    #: so deep that the locked blade's slot overlaps the flattened shoulder by less than
+    #: :data:`MIN_LATCH_OVERLAP_MM` (``pin_flat_mm``: 0.4 mm at the default clearance, 0.1 at 0.5).
+    pin_flat_max_mm: float = 0.4
     #: The blade's drive: a ``drive_shaft_mm`` D-shaft (flat ``drive_flat_mm`` across, i.e. 1 mm deep)
     #: from the latch servo's coupler through the rear plate's bearing hole (round, shaft + 2 clearances)
     #: into the blade's D bore (the D offset by the clearance): the flat turns the blade.
@@ -88,10 +89,9 @@ class FrontRearSpec:
 
     def __post_init__(self) -> None:
         check_clearance(self.clearance_mm, "clearance_mm")
-        for n in ("wall_mm", "plate_mm", "pin_diameter_mm", "groove_diameter_mm", "head_shoulder_mm",
-                  "head_mm", "head_wall_mm", "blade_mm", "pocket_depth_mm", "pin_circle_mm", "block_mm",
-                  "blade_radius_mm"):
-            _pos_ok(n, getattr(self, n))
+        check_lengths(self, ("wall_mm", "plate_mm", "pin_diameter_mm", "groove_diameter_mm", "head_shoulder_mm",
+                             "head_mm", "head_wall_mm", "blade_mm", "pocket_depth_mm", "pin_circle_mm", "block_mm",
+                             "blade_radius_mm", "pin_flat_max_mm"), ("pin_chamfer_mm", "hole_chamfer_mm"))
         c = self.clearance_mm
         for n in ("wall_mm", "plate_mm", "blade_mm", "head_shoulder_mm", "head_mm", "head_wall_mm"):
             need(at_least(getattr(self, n), MIN_WALL_MM),
@@ -125,10 +125,10 @@ class FrontRearSpec:
              f"block_mm {self.block_mm:g} is too small for the blade cavity (blade_radius_mm {self.blade_radius_mm:g})")
         need(at_least(self.block_mm / 2, self.pin_circle_mm + self.head_diameter_mm / 2 + c + MIN_WALL_MM),
              f"block_mm {self.block_mm:g} is too small for pin_circle_mm {self.pin_circle_mm:g}")
-        for n in ("pin_chamfer_mm", "hole_chamfer_mm"):
-            v = getattr(self, n)
-            need(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v >= 0,
-                 f"{n} must be a length >= 0 mm (0 = no lead-in), got {v!r}")
+        need(at_least(self.pin_flat_mm, 0.1),
+             f"clearance_mm {c:g} leaves the grooved pins no flat to print lying on (pin_diameter_mm "
+             f"{self.pin_diameter_mm:g}, groove_diameter_mm {self.groove_diameter_mm:g}: the latch overlap "
+             f"{self.latch_overlap_mm:.2f} mm must exceed {MIN_LATCH_OVERLAP_MM:g} mm by at least 0.1 mm)")
         need(at_most(self.pin_chamfer_mm, self.pin_diameter_mm / 2 - 1.0),
              f"pin_chamfer_mm {self.pin_chamfer_mm:g} leaves the {self.pin_diameter_mm:g} mm pin a tip face under 2 mm")
         from .fasteners import thread as _thread
@@ -153,7 +153,7 @@ class FrontRearSpec:
 
         thread(self.screw_size)
         if self.pin_protrusion_mm is not None:
-            _pos_ok("pin_protrusion_mm", self.pin_protrusion_mm)
+            check_lengths(self, ("pin_protrusion_mm",))
             need(at_least(self.pin_protrusion_mm, self.blade_end_mm + 1.0),
                  f"pin_protrusion_mm {self.pin_protrusion_mm:g} does not reach past the latch blade "
                  f"(needs >= {self.blade_end_mm + 1.0:g} mm)")
@@ -200,6 +200,13 @@ class FrontRearSpec:
     def head_x_mm(self) -> float:
         """Set-frame x of the pin head's back face = the back face of plate (b) (front of plate (a))."""
         return -self.wall_mm - 2 * self.plate_mm - self.locking_plate_mm
+
+    @property
+    def pin_flat_mm(self) -> float:
+        """Depth of the flat the pins print lying on (below their radius): ``pin_flat_max_mm``, less
+        where the locked blade's overlap over the flattened shoulder would fall under
+        :data:`MIN_LATCH_OVERLAP_MM`."""
+        return max(0.0, min(self.pin_flat_max_mm, self.latch_overlap_mm - MIN_LATCH_OVERLAP_MM))
 
     @property
     def latch_overlap_mm(self) -> float:
@@ -326,92 +333,191 @@ class FrontRearSpec:
         raise ValueError(f"side {side!r} is not pin or latch")
 
 
-class _Plate(Part):
-    """A square block plate lying in the set frame between x0 and x1."""
+# --- the block plates: one class, the variants in a table (as cq_warehouse does for fasteners) -------
+#
+# Grooved-pin set (thesis Fig. 6.2): a locking plate, b pin-locking plate, c IR PCB plate, d locking
+# plate, e three grooved pins. Engagement-latch set (Fig. 6.3): a locking plate, b IR PCB plate,
+# c separation plate, d triangular blade, e locking plate. The plates are one kind of part: a square
+# ``block_mm`` plate between two set-frame x planes with the four block screws' holes (ISO 273 from the
+# fastener table, :attr:`FrontRearSpec.screw_hole_mm`), optionally the pin holes and the IR windows, and
+# at most a few features of its own; :data:`PLATES` lists them.
 
-    def _plate(self, spec: FrontRearSpec, x0: float, x1: float, pin_holes: bool = True,
-               windows: bool = False, extra: list | None = None):
-        from .shapes import X, box, cut_all, cyl
-
-        h = spec.block_mm / 2
-        base = box(x0, x1, -h, h, -h, h)
-        cut = [cyl(spec.screw_hole_mm / 2, x1 - x0 + 0.2, (x0 - 0.1, y, z), X) for y, z in spec.screw_positions()]
-        if pin_holes:
-            r = spec.pin_diameter_mm / 2 + spec.clearance_mm
-            cut += [cyl(r, x1 - x0 + 0.2, (x0 - 0.1, y, z), X) for y, z in spec.pin_positions()]
-        if windows:
-            cut += [box(x0 - 0.1, x1 + 0.1, y - a / 2, y + a / 2, z - b / 2, z + b / 2)
-                    for y, z, a, b in spec.ir_windows()]
-        cut += extra or []
-        return cut_all(base, cut)
-
-
-# --- grooved-pin set (thesis Fig. 6.2: a locking plate, b pin-locking plate,
-#     c IR PCB plate, d locking plate, e three grooved pins) --------------------
-
+#: Lay a plate on one of its square faces (its x axis vertical).
 _FLAT_X: tuple = (((0.0, 1.0, 0.0), 90.0),)
 
 
-@dataclass(frozen=True)
-class PinFrontPlate(_Plate):
-    """(d) Front locking plate of the pin set, right behind the robot wall."""
+def _span_front(s: FrontRearSpec) -> tuple[float, float]:
+    return (-s.wall_mm - s.plate_mm, -s.wall_mm)  # right behind the robot wall
 
+
+def _span_ir(s: FrontRearSpec) -> tuple[float, float]:
+    return (-s.wall_mm - 2 * s.plate_mm, -s.wall_mm - s.plate_mm)
+
+
+def _span_pin_locking(s: FrontRearSpec) -> tuple[float, float]:
+    return (s.head_x_mm, s.head_x_mm + s.locking_plate_mm)
+
+
+def _span_pin_rear(s: FrontRearSpec) -> tuple[float, float]:
+    return (s.head_x_mm - s.plate_mm, s.head_x_mm)
+
+
+def _span_separation(s: FrontRearSpec) -> tuple[float, float]:
+    x1 = -s.wall_mm - 2 * s.plate_mm
+    return (x1 - s.separation_mm, x1)
+
+
+def _span_latch_rear(s: FrontRearSpec) -> tuple[float, float]:
+    x1 = -s.blade_end_mm
+    return (x1 - s.rear_plate_mm, x1)
+
+
+def _counterbores(s: FrontRearSpec, x0: float, x1: float) -> list:
+    """The pin heads' counterbores (head + clearance wide, head + clearance deep from the back face)."""
+    from .shapes import X, cyl
+
+    return [cyl(s.head_diameter_mm / 2 + s.clearance_mm, s.head_mm + s.clearance_mm + 0.1, (x0 - 0.1, y, z), X)
+            for y, z in s.pin_positions()]
+
+
+def _blade_cavity(s: FrontRearSpec, x0: float, x1: float) -> list:
+    """The round cavity the blade turns in and the blade's lever slot."""
+    from .shapes import X, box, cyl
+
+    cav = cyl(s.blade_radius_mm + s.clearance_mm, s.separation_mm + 0.2, (x0 - 0.1, 0, 0), X)
+    slot = box(x0 - 0.1, x1 + 0.1, -3.0, 3.0, -s.block_mm, 0)
+    return [cav, slot]
+
+
+def _pin_pockets(s: FrontRearSpec, x0: float, x1: float) -> list:
+    """The blind pockets that stop the pin tips (the latch depth) and the drive shaft's bearing hole."""
+    from .shapes import X, cyl
+
+    r = s.pin_diameter_mm / 2 + s.clearance_mm
+    pockets = [cyl(r, s.pocket_depth_mm + 0.1, (x1 - s.pocket_depth_mm, y, z), X) for y, z in s.pin_positions()]
+    shaft = cyl(s.drive_shaft_mm / 2 + s.clearance_mm, s.rear_plate_mm + 0.2, (x0 - 0.1, 0, 0), X)  # bearing
+    return pockets + [shaft]
+
+
+@dataclass(frozen=True)
+class PlateKind:
+    """One variant of :class:`BlockPlate`: its file stem, what it is, where it lies in the set frame
+    (``span``: spec -> (x0, x1), mm), which of the common holes it has, its own ``features`` (spec, x0,
+    x1 -> cutters), how it prints and its mating points (name -> spec -> set-frame x of a +x-facing mate)."""
+
+    name: str
+    description: str
+    span: object
+    pin_holes: bool = True
+    windows: bool = False
+    features: tuple = ()
+    print_rotation: tuple = _FLAT_X
+    print_orientation: str = ""
+    mates: tuple = ()
+
+
+#: The plates of both block sets, by file stem. Two pairs share their geometry (the sets' front and IR
+#: plates) and stay two printed parts each: they go on different blocks and carry different boards.
+PLATES: dict[str, PlateKind] = {k.name: k for k in (
+    PlateKind("pinset_d_front_locking_plate", "grooved-pin set (d): locking plate against the wall, pin holes",
+              _span_front),
+    PlateKind("pinset_c_ir_pcb_plate", "grooved-pin set (c): carrier of the IR receiver PCB", _span_ir, windows=True),
+    # front face (toward the wall, plain pin holes: the larger face) on the bed, the counterbores open upward
+    # (their shoulders face up: no bridge); about +y by -90 deg, as it was, put the counterbores on the bed
+    PlateKind("pinset_b_pin_locking_plate", "grooved-pin set (b): holds the pin heads in counterbores",
+              _span_pin_locking, features=(_counterbores,), print_rotation=(((0.0, 1.0, 0.0), 90.0),),
+              print_orientation="front face (plain pin holes, the larger face) on the bed, counterbores up"),
+    PlateKind("pinset_a_rear_locking_plate", "grooved-pin set (a): closes the stack behind the pin heads",
+              _span_pin_rear, pin_holes=False),
+    PlateKind("latchset_a_front_locking_plate", "latch set (a): locking plate against the wall, pin holes",
+              _span_front),
+    PlateKind("latchset_b_ir_pcb_plate", "latch set (b): carrier of the IR transmitter PCB", _span_ir, windows=True),
+    PlateKind("latchset_c_separation_plate", "latch set (c): blade cavity and the triangular-blade lever slot",
+              _span_separation, pin_holes=False, features=(_blade_cavity,)),
+    PlateKind("latchset_e_rear_locking_plate", "latch set (e): pin pockets (latch depth) and the servo shaft hole",
+              _span_latch_rear, pin_holes=False, features=(_pin_pockets,),
+              print_rotation=(((0.0, 1.0, 0.0), -90.0),), print_orientation="back face down, the pin pockets open up",
+              mates=(("pocket_bottom", lambda s: -s.latch_depth_mm),)),
+)}
+
+
+@dataclass(frozen=True)
+class BlockPlate(Part):
+    """A plate of a connector block (set frame): the :data:`PLATES` row ``kind`` built from ``spec``."""
+
+    kind: str = "pinset_d_front_locking_plate"
     spec: FrontRearSpec = FrontRearSpec()
-    name: ClassVar[str] = "pinset_d_front_locking_plate"
-    description: ClassVar[str] = "grooved-pin set (d): locking plate against the wall, pin holes"
-    print_rotation: ClassVar = _FLAT_X
+
+    def validate(self) -> None:
+        need(self.kind in PLATES, f"BlockPlate.kind {self.kind!r} is not one of {', '.join(PLATES)}")
+
+    @property
+    def row(self) -> PlateKind:
+        return PLATES[self.kind]
+
+    # the per-variant class attributes of a Part, from the table
+    @property
+    def name(self) -> str:  # type: ignore[override]
+        return self.row.name
+
+    @property
+    def description(self) -> str:  # type: ignore[override]
+        return self.row.description
+
+    @property
+    def print_rotation(self):  # type: ignore[override]
+        return self.row.print_rotation
+
+    @property
+    def print_orientation(self) -> str:  # type: ignore[override]
+        return self.row.print_orientation
+
+    @property
+    def span_mm(self) -> tuple[float, float]:
+        """(x0, x1) of the plate in the set frame, mm."""
+        return self.row.span(self.spec)
 
     def build(self):
-        s = self.spec
-        return self._plate(s, -s.wall_mm - s.plate_mm, -s.wall_mm)
+        from .shapes import X, box, cut_all, cyl
+
+        s, k = self.spec, self.row
+        x0, x1 = self.span_mm
+        h = s.block_mm / 2
+        base = box(x0, x1, -h, h, -h, h)
+        cut = [cyl(s.screw_hole_mm / 2, x1 - x0 + 0.2, (x0 - 0.1, y, z), X) for y, z in s.screw_positions()]
+        if k.pin_holes:
+            r = s.pin_diameter_mm / 2 + s.clearance_mm
+            cut += [cyl(r, x1 - x0 + 0.2, (x0 - 0.1, y, z), X) for y, z in s.pin_positions()]
+        if k.windows:
+            cut += [box(x0 - 0.1, x1 + 0.1, y - a / 2, y + a / 2, z - b / 2, z + b / 2)
+                    for y, z, a, b in s.ir_windows()]
+        for feature in k.features:
+            cut += feature(s, x0, x1)
+        return cut_all(base, cut)
+
+    @property
+    def mates(self):
+        return {n: Mate((x(self.spec), 0, 0), (1, 0, 0)) for n, x in self.row.mates}
 
 
-@dataclass(frozen=True)
-class PinIrPlate(_Plate):
-    """(c) IR PCB plate of the pin set: pin holes and two receiver windows."""
+def _plate_of(kind: str):
+    """A constructor of one :data:`PLATES` variant (``PinLockingPlate(spec=s)``, as before the table)."""
 
-    spec: FrontRearSpec = FrontRearSpec()
-    name: ClassVar[str] = "pinset_c_ir_pcb_plate"
-    description: ClassVar[str] = "grooved-pin set (c): carrier of the IR receiver PCB"
-    print_rotation: ClassVar = _FLAT_X
+    def make(spec: FrontRearSpec = FrontRearSpec(), **kw) -> BlockPlate:
+        return BlockPlate(kind=kind, spec=spec, **kw)
 
-    def build(self):
-        s = self.spec
-        return self._plate(s, -s.wall_mm - 2 * s.plate_mm, -s.wall_mm - s.plate_mm, windows=True)
+    make.__doc__ = f"The {kind} plate: ``BlockPlate(kind={kind!r}, spec=...)``."
+    return make
 
 
-@dataclass(frozen=True)
-class PinLockingPlate(_Plate):
-    """(b) Pin-locking plate: pin holes with counterbores that capture the pin heads."""
-
-    spec: FrontRearSpec = FrontRearSpec()
-    name: ClassVar[str] = "pinset_b_pin_locking_plate"
-    description: ClassVar[str] = "grooved-pin set (b): holds the pin heads in counterbores"
-    print_rotation: ClassVar = (((0.0, 1.0, 0.0), -90.0),)
-
-    def build(self):
-        from .shapes import X, cyl
-
-        s = self.spec
-        x0 = s.head_x_mm
-        cb = [cyl(s.head_diameter_mm / 2 + s.clearance_mm, s.head_mm + s.clearance_mm + 0.1, (x0 - 0.1, y, z), X)
-              for y, z in s.pin_positions()]
-        return self._plate(s, x0, x0 + s.locking_plate_mm, extra=cb)
-
-
-@dataclass(frozen=True)
-class PinRearPlate(_Plate):
-    """(a) Rear locking plate: solid behind the pin heads, screws only."""
-
-    spec: FrontRearSpec = FrontRearSpec()
-    name: ClassVar[str] = "pinset_a_rear_locking_plate"
-    description: ClassVar[str] = "grooved-pin set (a): closes the stack behind the pin heads"
-    print_rotation: ClassVar = _FLAT_X
-
-    def build(self):
-        s = self.spec
-        x0 = s.head_x_mm - s.plate_mm
-        return self._plate(s, x0, x0 + s.plate_mm, pin_holes=False)
+PinFrontPlate = _plate_of("pinset_d_front_locking_plate")
+PinIrPlate = _plate_of("pinset_c_ir_pcb_plate")
+PinLockingPlate = _plate_of("pinset_b_pin_locking_plate")
+PinRearPlate = _plate_of("pinset_a_rear_locking_plate")
+LatchFrontPlate = _plate_of("latchset_a_front_locking_plate")
+LatchIrPlate = _plate_of("latchset_b_ir_pcb_plate")
+LatchSeparationPlate = _plate_of("latchset_c_separation_plate")
+LatchRearPlate = _plate_of("latchset_e_rear_locking_plate")
 
 
 @dataclass(frozen=True)
@@ -420,8 +526,12 @@ class GroovedPin(Part):
 
     spec: FrontRearSpec = FrontRearSpec()
     name: ClassVar[str] = "pinset_e_grooved_pin"
-    description: ClassVar[str] = "grooved-pin set (e): grooved pin, three per block, printed standing on its head"
-    print_rotation: ClassVar = (((0.0, 1.0, 0.0), -90.0),)
+    description: ClassVar[str] = "grooved-pin set (e): grooved pin, three per block, printed lying on its flat"
+    #: The mounting frame already lays it down: axis along x, the flat (``FrontRearSpec.pin_flat_mm``) at -z.
+    print_rotation: ClassVar = ()
+    print_orientation: ClassVar[str] = ("lying on its flat, axis horizontal: the layers run along the pin, so the "
+                                        "pull at the groove neck runs along them, not across (standing, the neck "
+                                        "was a stack of 3.4 mm discs)")
     infill_percent: ClassVar[int] = 100
 
     @property
@@ -432,7 +542,7 @@ class GroovedPin(Part):
         return (g0, g0 + s.separation_mm)
 
     def build(self):
-        from .shapes import X, cone, cyl, fuse_all
+        from .shapes import X, box, cone, cyl, fuse_all
 
         s = self.spec
         x_head = s.head_x_mm
@@ -446,62 +556,18 @@ class GroovedPin(Part):
                  cyl(r, tip - g1 - ch, (g1, 0, 0), X)]
         if ch > 0:  # the lead-in: a 45 deg chamfer on the tip
             parts.append(cone(r, r - ch, ch, (tip - ch, 0, 0), X))
-        return fuse_all(parts)
+        pin = fuse_all(parts)
+        f = s.pin_flat_mm
+        if f <= 0:
+            return pin
+        # the flat it prints on, along the whole pin (head included) at -z
+        R = s.head_diameter_mm / 2 + 1.0
+        return pin.cut(box(x_head - 1.0, tip + 1.0, -R, R, -R, -(r - f)))
 
     @property
     def mates(self):
         return {"tip": Mate((self.spec.protrusion_mm, 0, 0), (1, 0, 0))}
 
-
-# --- engagement-latch set (thesis Fig. 6.3: a locking plate, b IR PCB plate,
-#     c separation plate, d triangular blade, e locking plate) ---------------
-
-@dataclass(frozen=True)
-class LatchFrontPlate(_Plate):
-    """(a) Front locking plate of the latch set, right behind the robot wall."""
-
-    spec: FrontRearSpec = FrontRearSpec()
-    name: ClassVar[str] = "latchset_a_front_locking_plate"
-    description: ClassVar[str] = "latch set (a): locking plate against the wall, pin holes"
-    print_rotation: ClassVar = _FLAT_X
-
-    def build(self):
-        s = self.spec
-        return self._plate(s, -s.wall_mm - s.plate_mm, -s.wall_mm)
-
-
-@dataclass(frozen=True)
-class LatchIrPlate(_Plate):
-    """(b) IR PCB plate of the latch set: pin holes and two transmitter windows."""
-
-    spec: FrontRearSpec = FrontRearSpec()
-    name: ClassVar[str] = "latchset_b_ir_pcb_plate"
-    description: ClassVar[str] = "latch set (b): carrier of the IR transmitter PCB"
-    print_rotation: ClassVar = _FLAT_X
-
-    def build(self):
-        s = self.spec
-        return self._plate(s, -s.wall_mm - 2 * s.plate_mm, -s.wall_mm - s.plate_mm, windows=True)
-
-
-@dataclass(frozen=True)
-class LatchSeparationPlate(_Plate):
-    """(c) Separation plate: the round cavity the blade turns in, and the blade's lever slot."""
-
-    spec: FrontRearSpec = FrontRearSpec()
-    name: ClassVar[str] = "latchset_c_separation_plate"
-    description: ClassVar[str] = "latch set (c): blade cavity and the triangular-blade lever slot"
-    print_rotation: ClassVar = _FLAT_X
-
-    def build(self):
-        from .shapes import X, box, cyl
-
-        s = self.spec
-        x1 = -s.wall_mm - 2 * s.plate_mm
-        x0 = x1 - s.separation_mm
-        cav = cyl(s.blade_radius_mm + s.clearance_mm, s.separation_mm + 0.2, (x0 - 0.1, 0, 0), X)
-        slot = box(x0 - 0.1, x1 + 0.1, -3.0, 3.0, -s.block_mm, 0)
-        return self._plate(s, x0, x1, pin_holes=False, extra=[cav, slot])
 
 
 @dataclass(frozen=True)
@@ -547,44 +613,24 @@ class TriangularBlade(Part):
         return shape
 
 
-@dataclass(frozen=True)
-class LatchRearPlate(_Plate):
-    """(e) Rear locking plate: blind pockets that stop the pin tips (this sets the latch depth)."""
-
-    spec: FrontRearSpec = FrontRearSpec()
-    name: ClassVar[str] = "latchset_e_rear_locking_plate"
-    description: ClassVar[str] = "latch set (e): pin pockets (latch depth) and the servo shaft hole"
-    print_rotation: ClassVar = (((0.0, 1.0, 0.0), -90.0),)
-
-    def build(self):
-        from .shapes import X, cyl
-
-        s = self.spec
-        x1 = -s.blade_end_mm
-        x0 = x1 - s.rear_plate_mm
-        r = s.pin_diameter_mm / 2 + s.clearance_mm
-        pockets = [cyl(r, s.pocket_depth_mm + 0.1, (x1 - s.pocket_depth_mm, y, z), X) for y, z in s.pin_positions()]
-        shaft = cyl(s.drive_shaft_mm / 2 + s.clearance_mm, s.rear_plate_mm + 0.2, (x0 - 0.1, 0, 0), X)  # bearing
-        return self._plate(s, x0, x1, pin_holes=False, extra=pockets + [shaft])
-
-    @property
-    def mates(self):
-        return {"pocket_bottom": Mate((-self.spec.latch_depth_mm, 0, 0), (1, 0, 0))}
+#: The plates of each block, from the robot wall inward.
+PIN_SET_PLATES = ("pinset_d_front_locking_plate", "pinset_c_ir_pcb_plate", "pinset_b_pin_locking_plate",
+                  "pinset_a_rear_locking_plate")
+LATCH_SET_PLATES = ("latchset_a_front_locking_plate", "latchset_b_ir_pcb_plate", "latchset_c_separation_plate",
+                    "latchset_e_rear_locking_plate")
 
 
 def pin_set_parts(spec: FrontRearSpec) -> list[tuple[Part, list[tuple[float, float, float]]]]:
     """The five parts of one grooved-pin block with their offsets in the set frame."""
-    pin = GroovedPin(spec=spec)
-    return [(PinFrontPlate(spec=spec), [(0, 0, 0)]), (PinIrPlate(spec=spec), [(0, 0, 0)]),
-            (PinLockingPlate(spec=spec), [(0, 0, 0)]), (PinRearPlate(spec=spec), [(0, 0, 0)]),
-            (pin, [(0, y, z) for y, z in spec.pin_positions()])]
+    plates: list = [(BlockPlate(kind=k, spec=spec), [(0, 0, 0)]) for k in PIN_SET_PLATES]
+    return plates + [(GroovedPin(spec=spec), [(0, y, z) for y, z in spec.pin_positions()])]
 
 
 def latch_set_parts(spec: FrontRearSpec, locked: bool = False) -> list[tuple[Part, list[tuple[float, float, float]]]]:
-    """The five parts of one latch block (blade locked or open) in the set frame."""
-    return [(LatchFrontPlate(spec=spec), [(0, 0, 0)]), (LatchIrPlate(spec=spec), [(0, 0, 0)]),
-            (LatchSeparationPlate(spec=spec), [(0, 0, 0)]), (TriangularBlade(spec=spec, locked=locked), [(0, 0, 0)]),
-            (LatchRearPlate(spec=spec), [(0, 0, 0)])]
+    """The five parts of one latch block (blade locked or open) in the set frame: the blade turns between
+    the separation plate (c) and the rear plate (e)."""
+    plates: list = [(BlockPlate(kind=k, spec=spec), [(0, 0, 0)]) for k in LATCH_SET_PLATES]
+    return plates[:3] + [(TriangularBlade(spec=spec, locked=locked), [(0, 0, 0)])] + plates[3:]
 
 
 # --- side rail (thesis Fig. 6.9) ------------------------------------------------
@@ -619,22 +665,46 @@ class RailSpec:
     tongue_taper_mm: float = 0.6
     taper_length_mm: float = 1.5
     end_chamfer_mm: float = 0.8
+    #: Each half is screwed to the robot's side wall by two ISO 10642 countersunk screws on the rail's
+    #: axis (z = 0) at x = +-``screw_x_mm``, into heat-set inserts in bosses inside the body: through the
+    #: male's tongue and plate (head in the tongue's tip face), through the female's groove floor (head in
+    #: the floor). Each head sits ``screw_recess_mm`` below the face it is sunk in, so the mating half
+    #: slides over it (its sliding faces never reach below those faces).
+    screw_size: str = "M3"
+    screw_x_mm: float = 28.0
+    screw_recess_mm: float = 0.2
     clearance_mm: float = DEFAULT_CLEARANCE_MM
 
     def __post_init__(self) -> None:
         check_clearance(self.clearance_mm, "clearance_mm")
-        for n in ("length_mm", "height_mm", "plate_mm", "tongue_mm", "tongue_root_mm", "tongue_tip_mm",
-                  "ir_hole_mm", "ir_inset_mm"):
-            _pos_ok(n, getattr(self, n))
-        _pos_ok("flare_length_mm", self.flare_length_mm)
-        _pos_ok("taper_length_mm", self.taper_length_mm)
+        check_lengths(self, ("length_mm", "height_mm", "plate_mm", "tongue_mm", "tongue_root_mm", "tongue_tip_mm",
+                             "ir_hole_mm", "ir_inset_mm", "screw_x_mm", "screw_recess_mm", "flare_length_mm",
+                             "taper_length_mm"), ("groove_flare_mm", "tongue_taper_mm", "end_chamfer_mm"))
+        from .fasteners import thread
+
+        head = thread(self.screw_size).countersunk_head_diameter_mm
+        need(head is not None,
+             f"RailSpec.screw_size {self.screw_size!r}: the rail screws are ISO 10642 countersunk, which starts at M3")
+        sink_r = self.screw_countersink_mm / 2
+        need(at_least(self.tongue_tip_mm / 2 - sink_r, MIN_WALL_MM / 2)
+             and at_least(self.tongue_root_mm / 2 - self.screw_hole_mm / 2, MIN_WALL_MM),
+             f"tongue_tip_mm {self.tongue_tip_mm:g} / tongue_root_mm {self.tongue_root_mm:g}: the tongue is too narrow "
+             f"for the {self.screw_size} countersunk rail screws ({self.screw_countersink_mm:g} mm countersink)")
+        need(at_least(self.tongue_mm + self.plate_mm - self.screw_sink_depth_mm - self.screw_recess_mm, MIN_WALL_MM),
+             f"tongue_mm {self.tongue_mm:g}: the male rail's countersunk screw heads leave under {MIN_WALL_MM:g} mm")
+        floor = self.plate_mm - self.clearance_mm  # the female's groove floor
+        need(at_least(floor - self.screw_sink_depth_mm - self.screw_recess_mm, NOZZLE_MM),
+             f"RailSpec.plate_mm {self.plate_mm:g} leaves the female's {floor:g} mm groove floor too thin for the "
+             f"{self.screw_size} countersunk screw heads ({self.screw_sink_depth_mm:g} mm deep, recessed "
+             f"{self.screw_recess_mm:g} mm; clearance_mm {self.clearance_mm:g})")
+        ends = self.length_mm / 2 - max(self.flare_length_mm, self.taper_length_mm) - MIN_WALL_MM
+        need(at_most(self.screw_x_mm + sink_r, ends),
+             f"RailSpec.screw_x_mm {self.screw_x_mm:g} puts the rail screws into the rail's end lead-ins")
+        need(at_least(self.screw_x_mm - sink_r, MIN_WALL_MM),
+             f"RailSpec.screw_x_mm {self.screw_x_mm:g} puts the two rail screws' countersinks into each other")
         need(self.flare_length_mm <= self.ir_inset_mm - self.ir_hole_mm / 2 - MIN_WALL_MM
              and self.taper_length_mm <= self.length_mm / 4,
              f"flare_length_mm {self.flare_length_mm:g} / taper_length_mm {self.taper_length_mm:g} reach the IR holes")
-        for n in ("groove_flare_mm", "tongue_taper_mm", "end_chamfer_mm"):
-            v = getattr(self, n)
-            need(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v >= 0,
-                 f"{n} must be a length >= 0 mm (0 = no lead-in), got {v!r}")
         need(at_least(self.plate_mm - self.clearance_mm - self.groove_flare_mm, MIN_WALL_MM),
              f"groove_flare_mm {self.groove_flare_mm:g} leaves the groove floor at the rail's ends thinner than "
              f"{MIN_WALL_MM:g} mm (plate_mm {self.plate_mm:g}, clearance_mm {self.clearance_mm:g})")
@@ -655,6 +725,61 @@ class RailSpec:
         need(at_least(band, self.ir_hole_mm + 2 * MIN_WALL_MM),
              f"height_mm {self.height_mm:g} leaves {band:.2f} mm beside the dovetail groove for the "
              f"{self.ir_hole_mm:g} mm IR holes and their walls (clearance_mm {self.clearance_mm:g})")
+
+    @property
+    def screw_hole_mm(self) -> float:
+        """The rail screws' holes: ISO 273 medium clearance for ``screw_size``."""
+        from .fasteners import clearance_hole_mm
+
+        return clearance_hole_mm(self.screw_size)
+
+    @property
+    def screw_countersink_mm(self) -> float:
+        """Diameter of the 90 deg countersinks at the face: the ISO 10642 head plus half a nozzle width
+        each side (as the connector blocks' countersinks)."""
+        from .fasteners import thread
+
+        return thread(self.screw_size).countersunk_head_diameter_mm + NOZZLE_MM
+
+    @property
+    def screw_sink_depth_mm(self) -> float:
+        """Depth of a 90 deg countersink (= its radial step) below the face it is sunk in."""
+        return (self.screw_countersink_mm - self.screw_hole_mm) / 2
+
+    def screw_xs_mm(self) -> tuple[float, float]:
+        """x of the two screws of each half (rail frame; the female, turned 180 deg, has them at the
+        same robot x: they are symmetric)."""
+        return (-self.screw_x_mm, self.screw_x_mm)
+
+    @property
+    def male_screw_face_mm(self) -> float:
+        """Rail-frame y of the face the male's screw heads are sunk in (its tongue's tip face)."""
+        return self.plate_mm + self.tongue_mm
+
+    @property
+    def female_screw_face_mm(self) -> float:
+        """Rail-frame y of the face the female's screw heads are sunk in (its groove floor)."""
+        return self.female_mm - self.groove_depth_mm
+
+    def screw_grip_mm(self, male: bool) -> float:
+        """From a screw head's top (``screw_recess_mm`` below its face) to the rail's back face (on the
+        wall, where the insert begins): what the screw clamps."""
+        return (self.male_screw_face_mm if male else self.female_screw_face_mm) - self.screw_recess_mm
+
+    def screw_cutters(self, face_y_mm: float) -> list:
+        """Cutters (rail frame) of the two screw holes from the back face (y = 0) to ``face_y_mm``: the
+        clearance hole, the countersink ``screw_recess_mm`` below the face and a counterbore of the
+        countersink's diameter from there through the face (the recess)."""
+        from .shapes import Y, cone, cyl
+
+        r, R = self.screw_hole_mm / 2, self.screw_countersink_mm / 2
+        seat = face_y_mm - self.screw_recess_mm  # the head's top
+        out = []
+        for x in self.screw_xs_mm():
+            out.append(cyl(r, face_y_mm + 0.2, (x, -0.1, 0.0), Y))
+            out.append(cone(R, r, R - r, (x, seat, 0.0), (0.0, -1.0, 0.0)))
+            out.append(cyl(R, self.screw_recess_mm + 0.1, (x, seat - 0.001, 0.0), Y))
+        return out
 
     @property
     def female_mm(self) -> float:
@@ -718,7 +843,8 @@ class RailMale(Part):
 
     spec: RailSpec = RailSpec()
     name: ClassVar[str] = "rail_male_left"
-    description: ClassVar[str] = "side rail, left half: dovetail tongue"
+    description: ClassVar[str] = ("side rail, left half: dovetail tongue, two countersunk M3 screws through the "
+                                  "tongue into the body's inserts")
     print_rotation: ClassVar = (((1.0, 0.0, 0.0), 90.0),)
 
     def build(self):
@@ -740,7 +866,7 @@ class RailMale(Part):
                        loft_x(s.tongue_outline(), L / 2 - lt - 0.001, s.tongue_outline(g), L / 2)]
         body = fuse_all([plate] + tongue)
         holes = [cyl(s.ir_hole_mm / 2, p + 0.2, (x, -0.1, z), Y) for x, z in s.ir_points()]
-        return cut_all(body, holes)
+        return cut_all(body, holes + s.screw_cutters(s.male_screw_face_mm))
 
     @property
     def mates(self):
@@ -758,7 +884,8 @@ class RailFemale(Part):
 
     spec: RailSpec = RailSpec()
     name: ClassVar[str] = "rail_female_right"
-    description: ClassVar[str] = "side rail, right half: dovetail groove, printed groove up"
+    description: ClassVar[str] = ("side rail, right half: dovetail groove, printed groove up, two countersunk M3 "
+                                  "screws through the groove floor into the body's inserts")
     print_rotation: ClassVar = (((1.0, 0.0, 0.0), 90.0),)
 
     def build(self):
@@ -781,7 +908,7 @@ class RailFemale(Part):
             groove += [prism([(sx * (L / 2 + 0.01), t - e - 0.01), (sx * (L / 2 + 0.01), t + 0.01),
                               (sx * (L / 2 - e - 0.02), t + 0.01)], "XY", -H / 2 - 1, H + 2) for sx in (-1, 1)]
         holes = [cyl(s.ir_hole_mm / 2, t + 0.2, (x, -0.1, z), Y) for x, z in s.ir_points()]
-        return cut_all(plate, groove + holes)
+        return cut_all(plate, groove + holes + s.screw_cutters(s.female_screw_face_mm))
 
 
 # --- twist-and-lock top-down coupling (thesis Fig. 6.10) -----------------------
@@ -820,16 +947,12 @@ class TopTwistSpec:
 
     def __post_init__(self) -> None:
         check_clearance(self.clearance_mm, "clearance_mm")
-        for n in ("key_chamfer_mm", "hole_chamfer_mm"):
-            v = getattr(self, n)
-            need(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v >= 0,
-                 f"{n} must be a length >= 0 mm (0 = no lead-in), got {v!r}")
+        check_lengths(self, ("arm_width_mm", "arm_length_mm", "head_mm", "roof_mm", "key_protrusion_mm", "flange_mm",
+                             "flange_size_mm", "collar_wall_mm", "cover_mm", "lip_mm", "stand_mm",
+                             "ground_clearance_mm"), ("key_chamfer_mm", "hole_chamfer_mm"))
         from .fasteners import thread
 
         thread(self.screw_size)
-        for n in ("arm_width_mm", "arm_length_mm", "head_mm", "roof_mm", "key_protrusion_mm", "flange_mm",
-                  "flange_size_mm", "collar_wall_mm", "cover_mm", "lip_mm", "stand_mm", "ground_clearance_mm"):
-            _pos_ok(n, getattr(self, n))
         for n in ("head_mm", "roof_mm", "flange_mm", "collar_wall_mm", "cover_mm"):
             need(at_least(getattr(self, n), MIN_WALL_MM), f"{n} {getattr(self, n):g} is thinner than {MIN_WALL_MM:g} mm")
         need(at_most(self.key_protrusion_mm, self.stand_mm - self.ground_clearance_mm),

@@ -130,6 +130,9 @@ class CubeRobot(Robot):
     wheel_y_mm: float = 48.0
     block_offset_mm: float = 22.0
     pin_overrun_mm: float = THESIS_PIN_OVERRUN_MM
+    #: The grooved pins and their neck (:class:`~cubot_cad.connectors.FrontRearSpec`), mm.
+    pin_diameter_mm: float = 5.0
+    groove_diameter_mm: float = 3.4
     clearance_mm: float = DEFAULT_CLEARANCE_MM
 
     name: ClassVar[str] = "cube-robot"
@@ -138,7 +141,8 @@ class CubeRobot(Robot):
     def __post_init__(self) -> None:
         check_clearance(self.clearance_mm, "clearance_mm")
         check_dims(self, ("size_mm", "wheel_block_mm", "cuboid_mm", "sensor_mm", "wall_mm", "wheel_radius_mm",
-                          "wheel_width_mm", "wheel_exposed_mm", "wheel_x_mm", "wheel_y_mm", "block_offset_mm"))
+                          "wheel_width_mm", "wheel_exposed_mm", "wheel_x_mm", "wheel_y_mm", "block_offset_mm",
+                          "pin_diameter_mm", "groove_diameter_mm"))
         need(self.pin_overrun_mm >= 0, f"pin_overrun_mm must be >= 0, got {self.pin_overrun_mm!r}")
         need(self.size_mm <= ENVELOPE_MM, f"size_mm {self.size_mm:g} is outside the Cube Robot envelope 120 mm")
         need(self.height_mm <= ENVELOPE_MM,
@@ -160,11 +164,12 @@ class CubeRobot(Robot):
 
     @cached_property
     def fr_spec(self) -> FrontRearSpec:
-        base = FrontRearSpec(wall_mm=self.wall_mm, clearance_mm=self.clearance_mm)
+        dims = {"wall_mm": self.wall_mm, "pin_diameter_mm": self.pin_diameter_mm,
+                "groove_diameter_mm": self.groove_diameter_mm, "clearance_mm": self.clearance_mm}
+        base = FrontRearSpec(**dims)
         if self.pin_overrun_mm <= 0:
             return base
-        return FrontRearSpec(wall_mm=self.wall_mm, clearance_mm=self.clearance_mm,
-                             pin_protrusion_mm=base.latch_depth_mm + self.pin_overrun_mm)
+        return FrontRearSpec(**dims, pin_protrusion_mm=base.latch_depth_mm + self.pin_overrun_mm)
 
     @property
     def envelope_mm(self):
@@ -223,6 +228,7 @@ class CubeRobot(Robot):
         axle = self.wheel_radius_mm - self.wheel_exposed_mm
         x, y = self.wheel_x_mm, self.wheel_y_mm
         zt = self.wheel_block_mm + self.cuboid_mm
+        S, stack = self.size_mm / 2, self.fr_spec.latch_stack_mm
         return [
             Component("wheel", f"wheel, {2 * self.wheel_radius_mm:g} mm (front pair steered)", 10.0,
                       ((x, -y, axle), (x, y, axle), (-x, -y, axle), (-x, y, axle)),
@@ -233,20 +239,27 @@ class CubeRobot(Robot):
                       (23.0, 12.0, 22.0), "box", "motor", (0.3, 0.3, 0.3)),
             Component("battery", "2S LiPo 7.4 V 1000 mAh", 55.0, ((0.0, 0.0, self.wheel_block_mm + 12.0),),
                       (70.0, 35.0, 18.0), "box", "power", (0.8, 0.5, 0.1)),
-            Component("latch_servo", "micro servo per latch block", 4.3,
-                      tuple((px, py, self.block_z_mm) for px, py in
-                            ((-self.size_mm / 2 + 32, -self.block_offset_mm), (-self.size_mm / 2 + 32, self.block_offset_mm),
-                             (-self.block_offset_mm, self.size_mm / 2 - 32), (self.block_offset_mm, self.size_mm / 2 - 32))),
+            # a micro servo (18 x 12 x 16 mm case, output 4 mm from one end) behind each latch block, coaxial
+            # with its drive shaft, 0.3 mm behind the stack: the rear ones reach out from the axis, the left
+            # ones toward the middle, so the two in each rear-left corner miss each other and the battery
+            Component("latch_servo", "micro servo per latch block (rear)", 4.3,
+                      tuple((-S + stack + 0.3 + 6.0, sy * (self.block_offset_mm + 5.0), self.block_z_mm)
+                            for sy in (-1, 1)),
+                      (12.0, 18.0, 16.0), "box", "motor", (0.3, 0.3, 0.3)),
+            Component("latch_servo_left", "micro servo per latch block (left)", 4.3,
+                      tuple((sx * (self.block_offset_mm - 4.0), S - stack - 0.3 - 6.0, self.block_z_mm)
+                            for sx in (-1, 1)),
                       (18.0, 12.0, 16.0), "box", "motor", (0.3, 0.3, 0.3)),
             Component("main_board", "controller + RFID + accelerometer", 25.0, ((0.0, 0.0, zt + 10.0),),
                       (70.0, 70.0, 10.0)),
+            # a board square inside the sensor cylinder (corners 1.9 mm off its wall), over the main board
             Component("sensor_ring", "16 IR proximity, 8 light sensors, 8x3 colour LEDs", 30.0,
-                      ((0.0, 0.0, zt + 22.0),), (100.0, 100.0, 20.0)),
+                      ((0.0, 0.0, zt + 15.0 + 0.3 + 10.0),), (76.0, 76.0, 20.0)),
             Component("ground_sensor", "ground (void) sensor", 1.0,
                       ((self.size_mm / 2 - 8, 0.0, 5.0), (self.size_mm / 2 - 8, -30.0, 5.0), (self.size_mm / 2 - 8, 30.0, 5.0)),
                       (6.0, 10.0, 4.0)),
             Component("fasteners", "M3 screws and nuts", 25.0, ((0.0, 0.0, 60.0),), (100.0, 100.0, 100.0),
-                      "box", "hardware", (0.6, 0.6, 0.6)),
+                      "box", "hardware", (0.6, 0.6, 0.6), lump=True),
         ]
 
     def connector_properties(self, youngs_modulus_pa: float, gaps_mm: dict | None = None) -> tuple:

@@ -40,9 +40,18 @@ from .robot import Placed, Robot
 from .twist import STANDIN_GAP_MM, KeyBearing, TwistDriveSpec, TwistKey, servo_component
 
 ENVELOPE_MM = (100.0, 100.0, 85.0)
-#: The drive motors' stand-in (x, y, z mm) and how far its centre sits above the wheel axle.
-MOTOR_SIZE_MM = (12.0, 26.0, 10.0)
+#: The drive motors' stand-in (x, y, z mm) and how far its centre sits above the wheel axle: an N20
+#: gearmotor, 12 x 10 mm, 9 mm gearbox + 15 mm can = 24 mm along the axle (its 3 mm D-shaft goes into
+#: the wheel's hub). A 26 mm motor with a bracket does not fit beside the twist key's 13.4 mm shaft
+#: with the 70 mm wheel base: that leaves 31 - 6.7 = 24.3 mm from the shaft to a wheel's inner face.
+MOTOR_SIZE_MM = (12.0, 24.0, 10.0)
 MOTOR_ABOVE_AXLE_MM = 4.0
+#: Gap (mm) of the drive motor stand-in to its wheel and to the twist key's shaft (they fit with this).
+MOTOR_GAP_MM = 0.15
+#: Side of the square bosses that hold the rail screws' inserts inside the side walls (mm).
+RAIL_BOSS_MM = 8.0
+#: The wheel slots in the floor are the wheel plus this much all round (mm).
+WHEEL_SLOT_MARGIN_MM = 1.5
 
 
 def check_dims(obj, names: tuple[str, ...]) -> None:
@@ -75,6 +84,10 @@ class CuBotBody(Part):
     cover_screw_inset_mm: float = 5.0
     boss_mm: float = 9.0
     boss_depth_mm: float = 8.0
+    #: The side rails' screws (:class:`RailSpec`) go into M3 heat-set inserts in the side walls, each in a
+    #: boss ``rail_boss_mm`` square inside the wall (as deep as the insert hole plus a
+    #: :data:`MIN_WALL_MM` floor, less the wall; a 45 deg underside so it prints without support).
+    rail_boss_mm: float = RAIL_BOSS_MM
     fr: FrontRearSpec = FrontRearSpec()
     rail: RailSpec = RailSpec()
     top: TopTwistSpec = TopTwistSpec()
@@ -84,7 +97,7 @@ class CuBotBody(Part):
     drive: TwistDriveSpec = TwistDriveSpec()
     clearance_mm: float = DEFAULT_CLEARANCE_MM
     name: ClassVar[str] = "cubot_body"
-    description: ClassVar[str] = ("CuBot body: hollow shell, pin/latch holes, rail IR holes, 8 IR windows, "
+    description: ClassVar[str] = ("CuBot body: hollow shell, pin/latch holes, rail IR holes, rail insert bosses, 8 IR windows, "
                                   "edge-detector windows, wheel slots, caster screw holes, twist-key shaft hole, "
                                   "key-bearing screw holes, two twist-servo bosses")
 
@@ -103,6 +116,10 @@ class CuBotBody(Part):
         need(at_least(self.boss_depth_mm, ins.insert_hole_depth_mm + MIN_WALL_MM),
              f"CuBotBody.boss_depth_mm {self.boss_depth_mm:g} is shallower than the {ins.insert_hole_depth_mm:g} mm "
              f"insert hole plus a {MIN_WALL_MM:g} mm floor")
+        ri = thread(self.rail.screw_size)
+        need(at_least(self.rail_boss_mm / 2 - ri.insert_hole_mm / 2, MIN_WALL_MM),
+             f"CuBotBody.rail_boss_mm {self.rail_boss_mm:g} leaves under {MIN_WALL_MM:g} mm of boss round the "
+             f"{ri.insert_hole_mm:g} mm rail inserts")
         d = self.drive
         tap = thread(d.servo_row.screw_size).tap_drill_mm / 2
         near, _far = d.boss_xs_mm()
@@ -133,6 +150,34 @@ class CuBotBody(Part):
         a, b = self.length_mm / 2 - self.cover_screw_inset_mm, self.width_mm / 2 - self.cover_screw_inset_mm
         return [(x, self.y_centre_mm + y) for x in (-a, a) for y in (-b, b)]
 
+    @property
+    def rail_boss_extent_mm(self) -> float:
+        """How far the rail bosses reach in from the side walls' inner faces (0: the wall holds the insert)."""
+        from .fasteners import thread
+
+        return max(0.0, thread(self.rail.screw_size).insert_hole_depth_mm + MIN_WALL_MM - self.wall_mm)
+
+    def rail_screw_points(self) -> list[tuple[float, float, float, int]]:
+        """(x, y, z, side) of the rail screws' inserts at the side walls' outer faces (robot frame); side
+        +1 = left (male rail), -1 = right (female)."""
+        yc, W = self.y_centre_mm, self.width_mm
+        return [(x, yc + side * W / 2, self.rail_z_mm, side) for side in (1, -1) for x in self.rail.screw_xs_mm()]
+
+    def _rail_bosses(self):
+        """The rail inserts' bosses on the side walls' inner faces, with a 45 deg underside."""
+        from .shapes import prism
+
+        e, a, w = self.rail_boss_extent_mm, self.rail_boss_mm / 2, self.wall_mm
+        if e <= 0:
+            return []
+        out = []
+        for x, y, z, side in self.rail_screw_points():
+            yi = y - side * (w - 0.01)  # 0.01 mm into the wall: a clean fuse
+            ye = y - side * (w + e)
+            outline = [(yi, z - a - e), (ye, z - a), (ye, z + a), (yi, z + a)]
+            out.append(prism(outline, "YZ", x - a, 2 * a))
+        return out
+
     def _bosses(self):
         """The four corner bosses (clipped to the hollow, fused to the walls)."""
         from .shapes import box, frustum
@@ -158,10 +203,13 @@ class CuBotBody(Part):
         yc = self.y_centre_mm
         y0, y1 = yc - W / 2, yc + W / 2
         shell = box(-L / 2, L / 2, y0, y1, 0, H).cut(box(-L / 2 + w, L / 2 - w, y0 + w, y1 - w, f, H + 1))
-        shell = fuse_all([shell] + self._bosses() + self._servo_bosses())
+        shell = fuse_all([shell] + self._bosses() + self._servo_bosses() + self._rail_bosses())
         ins = thread(self.top.screw_size)
         cut = [cyl(ins.insert_hole_mm / 2, ins.insert_hole_depth_mm + 0.1, (x, y, H - ins.insert_hole_depth_mm), Z)
                for x, y in self.cover_screw_points()]
+        ri = thread(self.rail.screw_size)  # the rail screws' inserts, pressed in from outside
+        cut += [cyl(ri.insert_hole_mm / 2, ri.insert_hole_depth_mm + 0.1, (x, y + side * 0.1, z), (0.0, -side, 0.0))
+                for x, y, z, side in self.rail_screw_points()]
         fr = self.fr
         for yb in (yc - self.block_y_mm, yc + self.block_y_mm):
             for sgn in (1, -1):  # front pin blocks, rear latch blocks (patterns are symmetric in y)
@@ -179,9 +227,9 @@ class CuBotBody(Part):
             cut.append(box(d - 5, d + 5, y0 - 1, y0 + w + 1, zi - 2.5, zi + 2.5))
             cut.append(box(d - 5, d + 5, y1 - w - 1, y1 + 1, zi - 2.5, zi + 2.5))
         # floor: wheel slots, edge detectors, key shaft + bearing screws, caster screws; servo boss tap holes
-        r = self.wheel_radius_mm + 1.5
-        for yw in (-self.wheel_base_mm / 2, self.wheel_base_mm / 2):
-            a = self.wheel_width_mm / 2 + 1.5
+        r = self.wheel_radius_mm + WHEEL_SLOT_MARGIN_MM
+        for yw in (yc - self.wheel_base_mm / 2, yc + self.wheel_base_mm / 2):  # centred on the body
+            a = self.wheel_width_mm / 2 + WHEEL_SLOT_MARGIN_MM
             cut.append(box(-r, r, yw - a, yw + a, -1, f + 1))
         xe = L / 2 - w - 6
         for ye in (yc - 30, yc + 30):
@@ -223,6 +271,9 @@ class CuBot(Robot):
     block_y_mm: float = 22.0
     block_z_mm: float = 30.0
     rail_z_mm: float = 26.0
+    #: The grooved pins (front) and their neck (the latch blade's slots, rear): :class:`FrontRearSpec`.
+    pin_diameter_mm: float = 5.0
+    groove_diameter_mm: float = 3.4
     clearance_mm: float = DEFAULT_CLEARANCE_MM
     fr: FrontRearSpec | None = field(default=None)
     rail: RailSpec | None = field(default=None)
@@ -236,7 +287,8 @@ class CuBot(Robot):
         check_clearance(self.clearance_mm, "clearance_mm")
         check_dims(self, ("length_mm", "width_mm", "height_mm", "wall_mm", "floor_mm", "wheel_radius_mm",
                           "wheel_width_mm", "wheel_base_mm", "wheel_exposed_mm", "caster_ball_mm",
-                          "caster_x_mm", "block_y_mm", "block_z_mm", "rail_z_mm"))
+                          "caster_x_mm", "block_y_mm", "block_z_mm", "rail_z_mm", "pin_diameter_mm",
+                          "groove_diameter_mm"))
         for n, lim in zip(("length_mm", "width_mm", "height_mm"), ENVELOPE_MM, strict=True):
             need(getattr(self, n) <= lim,
                  f"{n} {getattr(self, n):g} is outside the CuBot envelope "
@@ -248,7 +300,9 @@ class CuBot(Robot):
             need(abs(spec.clearance_mm - self.clearance_mm) < 1e-12,
                  f"{nm}.clearance_mm {spec.clearance_mm:g} differs from clearance_mm {self.clearance_mm:g} "
                  "(one print clearance for every mating pair)")
-        need(abs(fr.wall_mm - self.wall_mm) < 1e-12, f"fr.wall_mm {fr.wall_mm:g} must equal wall_mm {self.wall_mm:g}")
+        for n in ("wall_mm", "pin_diameter_mm", "groove_diameter_mm"):
+            need(abs(getattr(fr, n) - getattr(self, n)) < 1e-12,
+                 f"fr.{n} {getattr(fr, n):g} must equal {n} {getattr(self, n):g}")
         W_b = self.body_width_mm
         need(W_b >= 40, f"width_mm {self.width_mm:g} leaves a {W_b:g} mm body between the rails")
         H_b = self.body_height_mm
@@ -261,17 +315,41 @@ class CuBot(Robot):
              f"inside the {W_b:g} mm body")
         need(self.wheel_exposed_mm < self.wheel_radius_mm,
              f"wheel_exposed_mm {self.wheel_exposed_mm:g} must be less than wheel_radius_mm {self.wheel_radius_mm:g}")
-        need(self.wheel_base_mm / 2 + self.wheel_width_mm / 2 + 1.5 <= W_b / 2 - self.wall_mm - abs(self.y_centre_mm),
-             f"wheel_base_mm {self.wheel_base_mm:g} puts the wheels into the side walls (body {W_b:g} mm wide)")
+        # the wheels are centred on the body (not on the robot's footprint, which includes the thicker
+        # female rail): each wheel slot keeps this much of the floor to the inner face of its side wall
+        left = W_b / 2 - self.wall_mm - (self.wheel_base_mm / 2 + self.wheel_width_mm / 2 + WHEEL_SLOT_MARGIN_MM)
+        need(at_least(left, 0.0),
+             f"wheel_base_mm {self.wheel_base_mm:g} with wall_mm {self.wall_mm:g} puts the wheel slots "
+             f"{-left:.2f} mm into the side walls (body {W_b:g} mm wide): reduce wheel_base_mm to "
+             f"{self.wheel_base_mm + 2 * left:g} or wall_mm to {self.wall_mm + left:g}")
         need(at_least(self.length_mm / 2 - fr.latch_depth_mm - fr.rear_plate_mm, self.wheel_radius_mm + 1.5),
              f"wheel_radius_mm {self.wheel_radius_mm:g} collides with the connector stacks (length_mm {self.length_mm:g})")
         need(self.rail_z_mm - rail.height_mm / 2 >= 0 and self.rail_z_mm + rail.height_mm / 2 <= H_b - 15,
              f"rail_z_mm {self.rail_z_mm:g} puts the {rail.height_mm:g} mm rails outside the side walls")
         need(rail.length_mm <= self.length_mm, f"rail.length_mm {rail.length_mm:g} exceeds length_mm {self.length_mm:g}")
+        self._check_rail_bosses()
         need(H_b >= 40, f"height_mm {self.height_mm:g} leaves only {H_b:g} mm of body under the cover/collar")
         CasterSeat(ball_diameter_mm=self.caster_ball_mm, wheel_exposed_mm=self.wheel_exposed_mm,
                    clearance_mm=self.clearance_mm)  # validates the caster against the wheels
         self._check_twist_drive()
+
+    def _check_rail_bosses(self) -> None:
+        """The rail screws' bosses inside the side walls clear the wheels, the connector stacks at the
+        front and rear, and the rail IR holes through the body."""
+        body, rail = self.body, self.rail_spec
+        a, x = body.rail_boss_mm / 2, rail.screw_x_mm
+        fr = self.fr_spec
+        stack = min(self.length_mm / 2 - fr.pin_stack_mm, self.length_mm / 2 - fr.latch_stack_mm)
+        need(at_most(x + a, stack - STANDIN_GAP_MM),
+             f"rail.screw_x_mm {x:g}: the rail screws' bosses ({body.rail_boss_mm:g} mm) reach the connector stacks "
+             f"(from x = +-{stack:g} mm)")
+        inner = self.body_width_mm / 2 - self.wall_mm - body.rail_boss_extent_mm  # boss face, from the body's centre
+        wheel_out = self.wheel_base_mm / 2 + self.wheel_width_mm / 2
+        need(at_least(inner - wheel_out, STANDIN_GAP_MM) or at_least(x - a, self.wheel_radius_mm + STANDIN_GAP_MM),
+             f"rail.screw_x_mm {x:g}: the rail screws' bosses reach the wheels (radius {self.wheel_radius_mm:g} mm)")
+        ir = min(abs(px) for px, _z in rail.ir_points()) - rail.ir_hole_mm / 2
+        need(at_most(x + a, ir - MIN_WALL_MM / 2),
+             f"rail.screw_x_mm {x:g}: the rail screws' bosses reach the rail IR holes")
 
     def _check_twist_drive(self) -> None:
         """The twist-lock drive fits the robot: the horn turns over the drive motors, the servo and the
@@ -308,11 +386,19 @@ class CuBot(Robot):
     # -- derived dimensions ---------------------------------------------------------
     @cached_property
     def fr_spec(self) -> FrontRearSpec:
-        return self.fr or FrontRearSpec(wall_mm=self.wall_mm, clearance_mm=self.clearance_mm)
+        return self.fr or FrontRearSpec(wall_mm=self.wall_mm, pin_diameter_mm=self.pin_diameter_mm,
+                                        groove_diameter_mm=self.groove_diameter_mm, clearance_mm=self.clearance_mm)
 
     @cached_property
     def rail_spec(self) -> RailSpec:
-        return self.rail or RailSpec(clearance_mm=self.clearance_mm)
+        """The side rails; by default their screws at x = +-28 mm, or nearer the middle where a thick
+        wall deepens the connector stacks so far that the screws' bosses would reach them."""
+        if self.rail:
+            return self.rail
+        fr = self.fr_spec
+        stack = self.length_mm / 2 - max(fr.pin_stack_mm, fr.latch_stack_mm)
+        x = min(RailSpec.screw_x_mm, stack - STANDIN_GAP_MM - RAIL_BOSS_MM / 2)
+        return RailSpec(clearance_mm=self.clearance_mm, screw_x_mm=x)
 
     @cached_property
     def top_spec(self) -> TopTwistSpec:
@@ -443,7 +529,43 @@ class CuBot(Robot):
                 turn = -math.degrees(math.atan2(m[1, 0], m[0, 0]))
         x, y = self.key_axis_mm
         loc = location((x, y, 0))
-        return [replace(h, shape=h.shape.moved(loc)) for h in hardware(self.top_spec, self.drive_spec, self.floor_mm, turn)]
+        return ([replace(h, shape=h.shape.moved(loc)) for h in hardware(self.top_spec, self.drive_spec, self.floor_mm, turn)]
+                + self.rail_screws())
+
+    def rail_screws(self) -> list:
+        """Stand-ins of the side rails' countersunk screws (robot frame): head in the male's tongue tip
+        face / the female's groove floor, ``screw_recess_mm`` below it, shank through the rail and into the
+        insert in the side wall (shank at the clearance hole less :data:`~cubot_cad.twist.SHANK_UNDERSIZE_MM`)."""
+        from .fasteners import thread
+        from .shapes import cone, cyl, fuse_all
+        from .twist import SHANK_UNDERSIZE_MM, Hardware
+
+        rs = self.rail_spec
+        t = thread(rs.screw_size)
+        R, k = t.countersunk_head_diameter_mm / 2, t.countersunk_head_height_mm
+        r = min(t.nominal_mm / 2, rs.screw_hole_mm / 2 - SHANK_UNDERSIZE_MM)
+        yc, W_b, z = self.y_centre_mm, self.body_width_mm, self.rail_z_mm
+        out = []
+        for male, side in ((True, 1.0), (False, -1.0)):
+            length = self.rail_screw_use(male)[0].length_mm
+            y_top = yc + side * (W_b / 2 + rs.screw_grip_mm(male))  # the head's top (robot frame)
+            axis = (0.0, -side, 0.0)  # into the robot
+            for i, x in enumerate(rs.screw_xs_mm()):
+                head = cone(R, R - k, k, (x, y_top, z), axis)
+                shank = cyl(r, length - k + 0.01, (x, y_top - side * (k - 0.005), z), axis)
+                label = f"rail_{'male' if male else 'female'}_screw_{i + 1}"
+                out.append(Hardware(label, "screw", fuse_all([head, shank]), False))
+        return out
+
+    def rail_screw_use(self, male: bool) -> list:
+        """The screws (and inserts) of one rail half: ISO 10642 countersunk (its length includes the head)
+        clamping the rail from the head's top to the wall, into an insert in the wall."""
+        from .fasteners import bolted
+
+        rs = self.rail_spec
+        half = "male rail (left): through the tongue" if male else "female rail (right): through the groove floor"
+        return bolted(self.name, rs.screw_size, rs.screw_grip_mm(male), len(rs.screw_xs_mm()),
+                      f"{half} into the side wall's inserts", insert=True, kind="ISO 10642")
 
     def fasteners(self) -> list:
         from .fasteners import bolted
@@ -455,6 +577,7 @@ class CuBot(Robot):
                 + bolted(n, fr.screw_size, fr.latch_stack_mm, 4 * blocks, "latch blocks: wall + plates a, b, c, e",
                          nut=True, kind="ISO 10642")
                 + bolted(n, top.screw_size, top.cover_mm, 4, "cover into the body's corner bosses", insert=True)
+                + self.rail_screw_use(True) + self.rail_screw_use(False)
                 + self.drive_spec.ring_screws(self.floor_mm)
                 + [self.drive_spec.horn_screw(), self.drive_spec.tab_screw()]
                 + bolted(n, "M3", self.floor_mm, 2, "caster seats (screw from inside into the seat's tap hole)",
@@ -478,28 +601,34 @@ class CuBot(Robot):
         bat_x0 = max(drv.horn.arm_length_mm, near + drv.boss_mm / 2) + STANDIN_GAP_MM
         axle = self.wheel_radius_mm - self.wheel_exposed_mm
         wb = self.wheel_base_mm / 2
+        motor_y = wb - self.wheel_width_mm / 2 - MOTOR_GAP_MM - MOTOR_SIZE_MM[1] / 2  # gearbox face at the wheel
         ball_z = -self.wheel_exposed_mm + self.caster_ball_mm / 2
         zi = H_b - 10
-        ir = [(L / 2 - 4, yc + d, zi) for d in (-25, 25)] + [(-L / 2 + 4, yc + d, zi) for d in (-25, 25)] + \
-             [(d, yc - self.body_width_mm / 2 + 4, zi) for d in (-25, 25)] + \
-             [(d, yc + self.body_width_mm / 2 - 4, zi) for d in (-25, 25)]
+        # the IR pair boards (4 mm thick) stand behind their windows, STANDIN_GAP_MM off the walls' inner faces
+        t = self.wall_mm + STANDIN_GAP_MM + 2.0
+        ir = [(L / 2 - t, yc + d, zi) for d in (-25, 25)] + [(-L / 2 + t, yc + d, zi) for d in (-25, 25)]
+        ir_side = [(d, yc - self.body_width_mm / 2 + t, zi) for d in (-25, 25)] + \
+                  [(d, yc + self.body_width_mm / 2 - t, zi) for d in (-25, 25)]
         return [
-            Component("drive_motor", "micro metal gearmotor (N20 class) with bracket", 12.0,
-                      ((0.0, -wb + 13, axle + MOTOR_ABOVE_AXLE_MM), (0.0, wb - 13, axle + MOTOR_ABOVE_AXLE_MM)),
+            Component("drive_motor", "micro metal gearmotor (N20: 12 x 10 x 24 mm, 3 mm D-shaft) with clip", 12.0,
+                      ((0.0, yc - motor_y, axle + MOTOR_ABOVE_AXLE_MM), (0.0, yc + motor_y, axle + MOTOR_ABOVE_AXLE_MM)),
                       MOTOR_SIZE_MM, "box", "motor", (0.3, 0.3, 0.3)),
             Component("wheel", f"drive wheel, {2 * self.wheel_radius_mm:g} mm, rubber tyre", 8.0,
-                      ((0.0, -wb, axle), (0.0, wb, axle)), (2 * self.wheel_radius_mm, self.wheel_width_mm),
+                      ((0.0, yc - wb, axle), (0.0, yc + wb, axle)), (2 * self.wheel_radius_mm, self.wheel_width_mm),
                       "cyl_y", "wheel", (0.1, 0.1, 0.1)),
             Component("caster_ball", f"steel ball, {self.caster_ball_mm:g} mm", 4.1,
                       ((-self.caster_x_mm, 0.0, ball_z), (self.caster_x_mm, 0.0, ball_z)),
                       (self.caster_ball_mm,), "sphere", "caster", (0.7, 0.7, 0.75)),
             Component("battery", "2S LiPo 7.4 V 800 mAh (60 x 30 x 15 mm, standing on its long edge)", 45.0,
-                      ((bat_x0 + 7.5, 0.0, self.floor_mm + STANDIN_GAP_MM + 15.0),),
+                      ((bat_x0 + 7.5, yc, self.floor_mm + STANDIN_GAP_MM + 15.0),),
                       (15.0, 60.0, 30.0), "box", "power", (0.8, 0.5, 0.1)),
             Component("main_board", "ARM Cortex-M3 controller + motor drivers + CAN", 15.0,
                       ((0.0, yc, board_z),), (60.0, 50.0, 8.0), "box"),
             Component("zigbee", "ZigBee module (XBee class)", 4.0, ((20.0, yc, zigbee_z),), (25.0, 25.0, 5.0)),
-            Component("ir_pair_board", "IR LED + photodiode pair board", 1.5, tuple(ir), (4.0, 12.0, 8.0)),
+            Component("ir_pair_board", "IR LED + photodiode pair board (front and rear walls)", 1.5, tuple(ir),
+                      (4.0, 12.0, 8.0)),
+            Component("ir_pair_board_side", "IR LED + photodiode pair board (side walls)", 1.5, tuple(ir_side),
+                      (12.0, 4.0, 8.0)),
             Component("latch_servo", "micro servo driving a latch blade", 4.3,
                       tuple((-L / 2 + self.fr_spec.latch_depth_mm + 12, y, self.block_z_mm)
                             for y in self.block_ys_mm), (18.0, 12.0, 16.0), "box", "motor", (0.3, 0.3, 0.3)),
@@ -508,9 +637,9 @@ class CuBot(Robot):
                       ((L / 2 - self.wall_mm - 6, yc - 30, self.floor_mm + 3), (L / 2 - self.wall_mm - 6, yc + 30, self.floor_mm + 3)),
                       (6.0, 10.0, 4.0)),
             Component("fasteners", "M3 screws and nuts (about 30)", 15.0, ((0.0, yc, H_b / 2),), (80.0, 80.0, 60.0),
-                      "box", "hardware", (0.6, 0.6, 0.6)),
+                      "box", "hardware", (0.6, 0.6, 0.6), lump=True),
             Component("wiring", "wires and connectors", 10.0, ((0.0, yc, H_b / 2),), (60.0, 60.0, 40.0),
-                      "box", "hardware", (0.9, 0.2, 0.2)),
+                      "box", "hardware", (0.9, 0.2, 0.2), lump=True),
         ]
 
     def connector_properties(self, youngs_modulus_pa: float, gaps_mm: dict | None = None) -> tuple:

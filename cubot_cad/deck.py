@@ -284,11 +284,10 @@ class PierDeck(Part):
         need(at_least(self.length_mm, robot.length_mm),
              f"PierDeck.length_mm {self.length_mm:g} is shorter than the {name}'s {robot.length_mm:g} mm "
              "(the line rolls over the full robot length)")
-        track = robot.wheel_base_mm / 2 + robot.wheel_width_mm / 2
-        half = min(yc + self.width_mm / 2, self.width_mm / 2 - yc)  # the deck is centred on the key axis
-        need(at_least(half, track),
-             f"PierDeck.width_mm {self.width_mm:g} does not reach over the wheel tracks (+-{track:g} mm, "
-             f"the deck centred at y = {yc:g})")
+        track = robot.wheel_base_mm / 2 + robot.wheel_width_mm / 2  # the wheels are centred on the body
+        need(at_least(self.width_mm / 2, track),
+             f"PierDeck.width_mm {self.width_mm:g} does not reach over the wheel tracks (+-{track:g} mm about "
+             f"the body's centre, y = {yc:g})")
         lim = climb_limit_deg(robot)
         need(at_most(self.ramp_deg, lim),
              f"PierDeck.ramp_deg {self.ramp_deg:g} is steeper than the {name} climbs ({lim:.1f} deg: its "

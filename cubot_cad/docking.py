@@ -10,8 +10,8 @@ the pin length, latch depth, ring and housing, or wheel height give.
 
 Then the connectors are closed (blades turned, key turned and locked, fingers
 opened) and the interference volume between every printed part of A and B is
-measured (for the top-down pair with the twist drive's screws, nuts and horn as solids,
-:meth:`~cubot_cad.robot.Robot.hardware`). A pair is ``ok`` when that interference is <= 1 mm^3 and the measured
+measured (for the top-down pair with the twist drive's screws, nuts and horn as solids, for the
+side rail with the rails' screws: :meth:`~cubot_cad.robot.Robot.hardware`). A pair is ``ok`` when that interference is <= 1 mm^3 and the measured
 gap is the pair's designed gap (:func:`design_gap_mm`) within
 :data:`GAP_TOLERANCE_MM`; :func:`require_docked` turns a failing pair into an
 :class:`~cubot_cad.errors.InputError`, which stops an export before it writes.
@@ -239,8 +239,9 @@ def _pair(name, robot_name, fixed_open, moving_open, fixed_closed, moving_closed
 
 @lru_cache(maxsize=32)
 def dock(name: str, clearance_mm: float = DEFAULT_CLEARANCE_MM,
-         misalign_mm: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> DockedPair:
-    """Build and measure the docked pair ``name`` (one of :data:`PAIRS`) of the default robots.
+         misalign_mm: tuple[float, float, float] = (0.0, 0.0, 0.0), settings: tuple = ()) -> DockedPair:
+    """Build and measure the docked pair ``name`` (one of :data:`PAIRS`) of the default robots, or of
+    robots built with ``settings`` (``--set`` (name, value) pairs, :func:`~cubot_cad.export.make_robot`).
 
     ``misalign_mm`` shifts B after docking before the closed-state interference
     is measured (a check that the measurement sees real overlaps).
@@ -250,7 +251,7 @@ def dock(name: str, clearance_mm: float = DEFAULT_CLEARANCE_MM,
         raise InputError(f"docked pair {name!r} is not one of {', '.join(PAIRS)}")
     from .export import make_robot
 
-    return dock_robot(make_robot(ROBOT_OF_PAIR[name], clearance_mm), name, tuple(misalign_mm))
+    return dock_robot(make_robot(ROBOT_OF_PAIR[name], clearance_mm, tuple(settings)), name, tuple(misalign_mm))
 
 
 def design_gap_mm(r, name: str) -> float:
@@ -306,7 +307,9 @@ def _dock_robot(r, name: str, misalign_mm: tuple[float, float, float]) -> Docked
     if name == "cubot-side-rail":
         W = r.width_mm
         items = list(r.placed)
-        pair = _pair(name, r.name, items, items, items, items, (0, 1, 0), (0, W, 0), 0.0, -2.0, misalign_mm)
+        # the rails' screws count too (heads sunk below the faces the other half slides on)
+        closed = items + [h.shape for h in r.hardware(items)]
+        pair = _pair(name, r.name, items, items, closed, closed, (0, 1, 0), (0, W, 0), 0.0, -2.0, misalign_mm)
         # lateral play: how far B can be pulled away before the dovetail flanks catch
         fa = union(manifold_of(p) for p in r.placed if p.role == "rail")
         fb = union(manifold_of(p) for p in r.placed if p.role == "rail").translate((0, W, 0))

@@ -51,40 +51,57 @@ STL_TOLERANCE_MM = 0.02
 STL_ANGULAR_RAD = 0.15
 
 
-def make_robot(name: str, clearance_mm: float = DEFAULT_CLEARANCE_MM):
-    """The robot model ``name`` with the given print clearance (shared instance: parts build once).
+def make_robot(name: str, clearance_mm: float = DEFAULT_CLEARANCE_MM, settings: tuple = ()):
+    """The robot model ``name`` with the given print clearance and ``settings`` (``--set``: (name,
+    value) pairs, :mod:`cubot_cad.settings`; those the robot has no field for are ignored), a shared
+    instance: parts build once.
 
-    Every robot builds at every clearance :func:`~cubot_cad.part.check_clearance` accepts (the
-    tests hold that); should one not, the error names ``--clearance-mm``, the value a user set,
-    rather than a connector dimension the command line cannot reach."""
+    The robot's own validation (its dataclass and every part and connector spec it derives) accepts
+    or refuses the values; a refusal names ``--set NAME=VALUE`` (or ``--clearance-mm``), the values a
+    user set, rather than a connector dimension the command line cannot reach."""
+    from .settings import for_robot, parse_settings, settings_text
+
     check_clearance(clearance_mm, "--clearance-mm")
     if name not in ROBOT_NAMES:
         raise InputError(f"--robot {name!r} is not one of {', '.join(ROBOT_NAMES)}, all")
+    settings = tuple((k, v) for k, v in parse_settings(settings) if k != "clearance_mm")
+    mine = tuple(sorted(for_robot(settings, name).items()))
     try:
-        return _make_robot(name, float(clearance_mm))
+        return _make_robot(name, float(clearance_mm), mine)
     except InputError as exc:
-        raise InputError(f"--clearance-mm {clearance_mm:g}: the {name} cannot be built with it ({exc})") from None
+        what = f"--set {settings_text(mine)}" if mine else f"--clearance-mm {clearance_mm:g}"
+        if mine and abs(clearance_mm - DEFAULT_CLEARANCE_MM) > 1e-12:
+            what += f" (--clearance-mm {clearance_mm:g})"
+        raise InputError(f"{what}: the {name} cannot be built with it ({exc})") from None
 
 
 @lru_cache(maxsize=32)
-def _make_robot(name: str, clearance_mm: float):
+def _make_robot(name: str, clearance_mm: float, settings: tuple = ()):
+    kw = dict(settings)
     if name == "cubot":
         from .cubot import CuBot
 
-        return CuBot(clearance_mm=clearance_mm)
-    if name == "octbot":
+        r = CuBot(clearance_mm=clearance_mm, **kw)
+    elif name == "octbot":
         from .octbot import OctBot
 
-        return OctBot(clearance_mm=clearance_mm)
-    if name == "cube-robot":
+        r = OctBot(clearance_mm=clearance_mm, **kw)
+    elif name == "cube-robot":
         from .cube_robot import CubeRobot
 
-        return CubeRobot(clearance_mm=clearance_mm)
-    if name == "platform":
+        r = CubeRobot(clearance_mm=clearance_mm, **kw)
+    elif name == "platform":
         from .platform import TestPlatform
 
-        return TestPlatform(clearance_mm=clearance_mm)
-    raise InputError(f"--robot {name!r} is not one of {', '.join(ROBOT_NAMES)}, all")
+        r = TestPlatform(clearance_mm=clearance_mm, **kw)
+    else:
+        raise InputError(f"--robot {name!r} is not one of {', '.join(ROBOT_NAMES)}, all")
+    if settings:
+        # every part the robot places validates its dimensions when it is made (the solids are built
+        # later): a value the geometry refuses is refused here, before anything is written
+        r.placed  # noqa: B018
+        r.components()
+    return r
 
 
 def parse_robots(value: str) -> tuple[str, ...]:
@@ -224,15 +241,18 @@ class ExportResult:
 def export_robots(robots: Iterable[str], out: str | os.PathLike, formats: Iterable[str] = ("stl", "step"),
                   material_name: str = "abs", clearance_mm: float = DEFAULT_CLEARANCE_MM,
                   progress: Callable | None = None, gaps: dict[str, dict[str, float]] | None = None,
-                  pairs: list | None = None) -> ExportResult:
+                  pairs: list | None = None, settings: tuple = (), slice_parts: bool = False) -> ExportResult:
     """Export the named robots' printable parts, assemblies, manifest and properties under ``out``.
 
     ``pairs`` (:class:`~cubot_cad.docking.DockedPair` measured at this clearance) are checked
     first: if any interferes or misses its designed gap, :class:`InputError` and nothing is
     written; otherwise their gaps go into the connector records and their summaries into the
     manifest. ``gaps`` (robot -> coupling kind -> mm) passes measured gaps directly; with
-    neither, the geometric design gap of each connector is used. All or nothing: see
-    :func:`staged_output`.
+    neither, the geometric design gap of each connector is used. ``slice_parts``: slice every STL
+    with its recorded print settings when prusa-slicer is on PATH (:mod:`cubot_cad.slicing`; minutes)
+    and record the numbers in the manifest. ``settings``: the ``--set``
+    dimensions (:mod:`cubot_cad.settings`), each robot built with those it has and recorded in the
+    manifest. All or nothing: see :func:`staged_output`.
     """
     t0 = time.perf_counter()
     robots = tuple(robots)
@@ -240,21 +260,26 @@ def export_robots(robots: Iterable[str], out: str | os.PathLike, formats: Iterab
     mat = material(material_name)
     check_clearance(clearance_mm, "--clearance-mm")
     out = Path(out)
-    models = {name: make_robot(name, clearance_mm) for name in robots}
+    from .settings import check_applicable, parse_settings
+
+    settings = tuple((k, v) for k, v in parse_settings(settings) if k != "clearance_mm")
+    check_applicable(settings, robots)
+    models = {name: make_robot(name, clearance_mm, settings) for name in robots}
     if pairs is not None:
         from .docking import measured_gaps, require_docked
 
         require_docked(pairs, "--clearance-mm", "nothing written")
         gaps = {**(gaps or {}), **measured_gaps(pairs)}
     with staged_output(out) as stage:
-        res = _write_export(stage, models, formats, material_name, mat, clearance_mm, progress, gaps, pairs)
+        res = _write_export(stage, models, formats, material_name, mat, clearance_mm, progress, gaps, pairs,
+                            settings, slice_parts)
     return ExportResult(out, material_name, clearance_mm, res["parts"], res["robots"], res["step_files"],
                         time.perf_counter() - t0, out / "manifest.json", out / "robot_properties.json",
                         res["glb_files"])
 
 
 def _write_export(out: Path, models: dict, formats: tuple, material_name: str, mat: dict, clearance_mm: float,
-                  progress, gaps, pairs) -> dict:
+                  progress, gaps, pairs, settings: tuple = (), slice_parts: bool = False) -> dict:
     from .deck import pier_parts
 
     jobs = [(name, part, qty, "robot") for name, r in models.items() for part, qty in r.printable_parts()]
@@ -301,12 +326,14 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
             step_files.append(rel)
     glb_files, models_summary = [], []
     if "glb" in formats:  # after the STLs: the GLB meshes are made on copies, at their own tolerance
-        glb_files, models_summary = _write_glbs(out, models, clearance_mm, pairs)
+        glb_files, models_summary = _write_glbs(out, models, clearance_mm, pairs, settings)
     from .bom import bom_csv, bom_rows
     from .components import component_table
-    from .properties import RobotPropertiesFile
+    from .properties import RobotPropertiesFile, ground_contact_fields
+    from .settings import settings_text
 
-    source = (f"cubot_cad CAD export (material {material_name.upper()}, clearance {clearance_mm:g} mm): "
+    tuned = f", --set {settings_text(settings)}" if settings else ""
+    source = (f"cubot_cad CAD export (material {material_name.upper()}, clearance {clearance_mm:g} mm{tuned}): "
               "mass/COM/inertia = printed parts (OCC) + non-printed component table; exposed heights measured "
               "on the wheel/caster solids; connector stiffness = documented estimate (structure_fem calibrates)")
     props = {}
@@ -317,6 +344,8 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
 
     # standing height, stack pitch and deck height of the robots that stack (measured when docked)
     props = {n: replace(p, **stack_fields(models[n], pairs)) for n, p in props.items()}
+    # where each robot touches the ground (wheel and caster contacts: structure_fem's ledge supports)
+    props = {n: replace(p, **ground_contact_fields(models[n])) for n, p in props.items()}
     pfile = RobotPropertiesFile(robots=tuple(props.values()))
     pfile.save(out / "robot_properties.json")
     robots_summary = {}
@@ -335,7 +364,7 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
         _atomic_bytes(out / name / "bom.csv", bom_csv(bom_rows(r, rho, sizes)).encode())
     manifest = {
         "schema_version": MANIFEST_SCHEMA, "units": "mm, g", "material": material_name.upper(),
-        "density_kg_m3": rho, "clearance_mm": clearance_mm, "bed_mm": list(BED_MM),
+        "density_kg_m3": rho, "clearance_mm": clearance_mm, "settings": dict(settings), "bed_mm": list(BED_MM),
         "stl_tolerance_mm": STL_TOLERANCE_MM, "robots": robots_summary,
         "parts": [vars(p) for p in records],
     }
@@ -347,11 +376,16 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
                            "files": glb_files, "models": models_summary}
     if pairs is not None:
         manifest["docked_pairs"] = [p.summary() for p in pairs]
+    if slice_parts and "stl" in formats:  # slicer's print time, filament and printed mass per part and robot
+        from .slicing import slice_into_manifest, slicer_path
+
+        if slicer_path() is not None:
+            slice_into_manifest(manifest, out, progress=progress)
     write_json_atomic(out / "manifest.json", manifest)
     return {"parts": records, "robots": robots_summary, "step_files": step_files, "glb_files": glb_files}
 
 
-def _write_glbs(out: Path, models: dict, clearance_mm: float, pairs) -> tuple[list[str], list[dict]]:
+def _write_glbs(out: Path, models: dict, clearance_mm: float, pairs, settings: tuple = ()) -> tuple[list[str], list[dict]]:
     """``<robot>.glb`` per robot and, with the CuBot, ``bridge-cubot-line.glb`` placed by the
     measured ``cubot-front-rear`` pair (docked now if the export was given no pairs)."""
     from .gltf import BRIDGE_NAME, bridge_assembly, robot_glb_assembly, write_glb
@@ -367,7 +401,8 @@ def _write_glbs(out: Path, models: dict, clearance_mm: float, pairs) -> tuple[li
         from .docking import dock
 
         pair = next((p for p in pairs or [] if p.name == "cubot-front-rear"), None) or \
-            dock("cubot-front-rear", clearance_mm)
+            (dock("cubot-front-rear", clearance_mm, settings=settings) if settings else
+             dock("cubot-front-rear", clearance_mm))
         assy, lay = bridge_assembly(models["cubot"], pair)
         rel = f"{BRIDGE_NAME}.glb"
         _atomic_via(out / rel, lambda p, a=assy: write_glb(a, p))

@@ -330,9 +330,12 @@ class OctBot(Robot):
         wb = self.wheel_base_mm / 2
         ball_z = -self.wheel_exposed_mm + self.caster_ball_mm / 2
         h = self.across_flats_mm / 2
+        gap = 0.3
+        motor_y = wb - self.wheel_width_mm / 2 - gap - 12.0  # the gearbox face 0.3 mm from the wheel
+        inner = h - self.wall_mm  # the flat walls' inner faces
         return [
-            Component("drive_motor", "micro metal gearmotor (N20 class)", 10.0,
-                      ((0.0, -wb + 12, axle + 4), (0.0, wb - 12, axle + 4)), (12.0, 24.0, 10.0), "box", "motor",
+            Component("drive_motor", "micro metal gearmotor (N20: 12 x 10 x 24 mm)", 10.0,
+                      ((0.0, -motor_y, axle + 4), (0.0, motor_y, axle + 4)), (12.0, 24.0, 10.0), "box", "motor",
                       (0.3, 0.3, 0.3)),
             Component("wheel", f"drive wheel, {2 * self.wheel_radius_mm:g} mm", 5.0,
                       ((0.0, -wb, axle), (0.0, wb, axle)), (2 * self.wheel_radius_mm, self.wheel_width_mm),
@@ -340,15 +343,19 @@ class OctBot(Robot):
             Component("caster_ball", f"steel ball, {self.caster_ball_mm:g} mm (adjustable caster)", 0.9,
                       ((-self.caster_x_mm, 0.0, ball_z), (self.caster_x_mm, 0.0, ball_z)),
                       (self.caster_ball_mm,), "sphere", "caster", (0.7, 0.7, 0.75)),
-            Component("battery", "3.7 V 1200 mAh LiPo (thesis)", 25.0, ((-15.0, 0.0, self.floor_mm + 4.0),),
-                      (50.0, 34.0, 6.0), "box", "power", (0.8, 0.5, 0.1)),
+            # flat on the floor behind the drive motors, its 50 mm across the robot (between the wheels)
+            Component("battery", "3.7 V 1200 mAh LiPo (thesis), 50 x 34 x 6 mm", 25.0,
+                      ((-(6.0 + gap + 17.0), 0.0, self.floor_mm + gap + 3.0),),
+                      (34.0, 50.0, 6.0), "box", "power", (0.8, 0.5, 0.1)),
+            # under the open top, inside the octagon (a 66 mm square's corners stay inside its walls)
             Component("main_board", "ARM Cortex-M0 board with IMU, colour sensor, IR LEDs/photodiodes", 12.0,
-                      ((0.0, 0.0, self.height_mm - 4.0),), (80.0, 80.0, 4.0)),
-            Component("worm_motor", "micro gearmotor with worm screw driving the fingers", 10.0,
-                      ((h + self.housing_mm / 2, 0.0, self.ring_spec.centre_z_mm),), (10.0, 24.0, 10.0), "box",
+                      ((0.0, 0.0, self.height_mm - 4.0),), (66.0, 66.0, 4.0)),
+            # in the body behind the front wall, its shaft through the wall into the housing's worm bore
+            Component("worm_motor", "micro gearmotor driving the capturer's worm screw (through the front wall)", 10.0,
+                      ((inner - gap - 5.0, 0.0, self.ring_spec.centre_z_mm),), (10.0, 24.0, 10.0), "box",
                       "motor", (0.3, 0.3, 0.3)),
             Component("fasteners", "M2/M3 screws", 5.0, ((0.0, 0.0, self.height_mm / 2),), (60.0, 60.0, 20.0),
-                      "box", "hardware", (0.6, 0.6, 0.6)),
+                      "box", "hardware", (0.6, 0.6, 0.6), lump=True),
         ]
 
     def fasteners(self) -> list:

@@ -105,6 +105,26 @@ def at_most(value: float, limit: float) -> bool:
     return value <= limit + LENGTH_TOL_MM
 
 
+def is_length(value, zero_ok: bool = False) -> bool:
+    """``value`` is a finite number (not a bool) > 0, or >= 0 with ``zero_ok``."""
+    return (isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+            and (value >= 0 if zero_ok else value > 0))
+
+
+def check_lengths(obj, positive: tuple[str, ...] = (), zero_ok: tuple[str, ...] = (), prefix: str = "") -> None:
+    """The one length check every part and spec shares: each field in ``positive`` is a length > 0 mm,
+    each in ``zero_ok`` a length >= 0 mm (0 = the feature left out); :class:`InputError` naming the field
+    (``prefix`` + name) and the value otherwise."""
+    for n in positive:
+        v = getattr(obj, n)
+        if not is_length(v):
+            raise InputError(f"{prefix}{n} must be a positive length in mm, got {v!r}")
+    for n in zero_ok:
+        v = getattr(obj, n)
+        if not is_length(v, zero_ok=True):
+            raise InputError(f"{prefix}{n} must be a length >= 0 mm (0 = left out), got {v!r}")
+
+
 def need(cond: bool, message: str) -> None:
     """Raise :class:`InputError` with ``message`` unless ``cond``."""
     if not cond:
@@ -134,19 +154,17 @@ class Part:
     #: part needs supports as oriented ("" = it prints without).
     infill_percent: ClassVar[int] = 25
     support: ClassVar[str] = ""
+    #: How ``print_rotation`` lays the part on the bed and why, recorded in the manifest ("" = its
+    #: largest flat face down, the default choice).
+    print_orientation: ClassVar[str] = ""
     #: ``*_mm`` fields that may be 0 (a feature left out), not only positive.
     ZERO_OK: ClassVar[tuple[str, ...]] = ()
 
     def __post_init__(self) -> None:
         check_clearance(self.clearance_mm, f"{type(self).__name__}.clearance_mm")
-        for f in fields(self):
-            v = getattr(self, f.name)
-            if f.name.endswith("_mm") and f.name != "clearance_mm":
-                zero_ok = f.name in self.ZERO_OK
-                if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v) or v < 0 \
-                        or (v == 0 and not zero_ok):
-                    what = "a length >= 0" if zero_ok else "a positive length"
-                    raise InputError(f"{type(self).__name__}.{f.name} must be {what} in mm, got {v!r}")
+        lengths = [f.name for f in fields(self) if f.name.endswith("_mm") and f.name != "clearance_mm"]
+        check_lengths(self, tuple(n for n in lengths if n not in self.ZERO_OK),
+                      tuple(n for n in lengths if n in self.ZERO_OK), f"{type(self).__name__}.")
         self.validate()
 
     # -- subclass API -----------------------------------------------------
@@ -225,7 +243,9 @@ class Part:
     def print_settings(self) -> dict:
         """Per-part print settings for the manifest (the shared ones: :data:`PRINT_DEFAULTS`)."""
         return {**PRINT_DEFAULTS, "infill_percent": self.infill_percent, "supports": bool(self.support),
-                "support_reason": self.support or None}
+                "support_reason": self.support or None,
+                "orientation": self.print_orientation or "largest flat face on the bed",
+                "print_rotation": [{"axis": list(axis), "deg": deg} for axis, deg in self.print_rotation]}
 
     def params(self) -> dict[str, float]:
         """The part's named dimensions."""

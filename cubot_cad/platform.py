@@ -114,7 +114,8 @@ class TestPlatform(Robot):
     def components(self) -> list[Component]:
         x = self.length_mm / 2 + self.tab_length_mm / 2
         return [Component("bolt_nut", f"{self.plate.bolt_size} x 10 ISO 4762 bolt with ISO 4032 nut (one per coupling)", 1.5,
-                          ((x, 0.0, self.thickness_mm / 2),), (3.0, 3.0, 10.0), "box", "hardware", (0.6, 0.6, 0.6))]
+                          ((x, 0.0, self.thickness_mm / 2),), (self.plate.bolt_mm, 10.0), "cyl_z", "hardware",
+                          (0.6, 0.6, 0.6))]
 
     def fasteners(self) -> list:
         from .fasteners import bolted

@@ -77,6 +77,85 @@ class FeaturePlay:
         require(bool(self.cad_feature), f"play {self.feature!r}: name the CAD feature it comes from")
 
 
+#: What touches the ground under a robot: a drive wheel's tyre or a caster's ball.
+GROUND_CONTACT_FEATURES = ("wheel", "caster")
+#: Contacts whose lowest point is within this of the robot's lowest one touch a flat ledge (m);
+#: a higher one (a caster set up off the ground) does not carry load on the flat.
+GROUND_TOUCH_TOLERANCE_M = 1e-4
+
+
+@dataclass(frozen=True)
+class GroundContact:
+    """Where a robot touches a flat ground, in the planar (x-z) view (SI, robot frame).
+
+    ``x_m``: along the robot, from the centre of its footprint (+x forward: the front face is at
+    ``length_m / 2``, the rear face at ``-length_m / 2``); ``z_m``: the contact's lowest point
+    below the underside (``-wheel_exposed_height_m`` for a wheel on a level robot); ``count``:
+    how many wheels / casters stand side by side at that ``x`` (the planar model merges them).
+    """
+
+    feature: str
+    x_m: float
+    z_m: float
+    count: int = 1
+
+    def __post_init__(self) -> None:
+        require(self.feature in GROUND_CONTACT_FEATURES,
+                f"ground contact feature {self.feature!r} is not one of {', '.join(GROUND_CONTACT_FEATURES)}")
+        require(_finite(self.x_m) and abs(self.x_m) < 1, f"ground contact x_m must be a finite length, got {self.x_m!r}")
+        require(_finite(self.z_m) and -0.2 < self.z_m <= 1e-9,
+                f"ground contact z_m must be at or below the underside (<= 0, > -0.2 m), got {self.z_m!r}")
+        require(isinstance(self.count, int) and not isinstance(self.count, bool) and self.count >= 1,
+                f"ground contact count must be an integer >= 1, got {self.count!r}")
+
+
+def ground_contacts_from_components(components, length_mm: float) -> tuple[GroundContact, ...]:
+    """The ground contacts of a robot from its component table (:class:`cubot_cad.components.Component`,
+    robot frame, mm): every ``wheel`` (``cyl_y``: its lowest point is the axle height minus the
+    radius, at the axle's x) and ``caster`` (``sphere``: the ball's centre minus its radius; a
+    ``cyl_z`` or ``box`` stand-in: its centre minus half its height), those
+    reaching the lowest plane (within :data:`GROUND_TOUCH_TOLERANCE_M`), merged per (feature, x)
+    across the robot's width. Needs no CAD kernel (the table is plain numbers)."""
+    pts: dict[tuple[str, float], list[float]] = {}
+    for c in components:
+        if c.role not in GROUND_CONTACT_FEATURES:
+            continue
+        # half its height below its centre: cyl_y / sphere: the diameter; cyl_z: the length; box: z size
+        half = {"cyl_z": float(c.size_mm[1]) if len(c.size_mm) > 1 else float(c.size_mm[0]),
+                "box": float(c.size_mm[2]) if len(c.size_mm) > 2 else float(c.size_mm[0])}.get(
+                    c.kind, float(c.size_mm[0])) / 2
+        for x, _y, z in c.positions_mm:
+            key = (c.role, round(float(x), 6))
+            pts.setdefault(key, []).append(float(z) - half)
+    if not pts:
+        return ()
+    low = min(z for zs in pts.values() for z in zs)
+    out = []
+    for (feature, x), zs in sorted(pts.items(), key=lambda kv: kv[0][1]):
+        touching = [z for z in zs if z - low <= GROUND_TOUCH_TOLERANCE_M * 1e3]
+        if touching:
+            require(abs(x) <= length_mm / 2 + 1e-9, f"{feature} at x = {x:g} mm is outside the robot's "
+                    f"{length_mm:g} mm length")
+            out.append(GroundContact(feature, x / 1e3, min(touching) / 1e3, len(touching)))
+    return tuple(out)
+
+
+def ground_contact_fields(robot) -> dict:
+    """``{"ground_contacts": ..., "ground_contacts_source": ...}`` for a parametric
+    :class:`cubot_cad.robot.Robot` (empty when it has no wheels or casters: it lies on its
+    underside, e.g. the test platform), to ``dataclasses.replace`` into its
+    :class:`RobotProperties` when the record is written."""
+    L = robot.envelope_mm[0]
+    contacts = ground_contacts_from_components(robot.components(), L)
+    if not contacts:
+        return {}
+    what = ", ".join(f"{c.count} {c.feature}{'s' if c.count > 1 else ''} at x = {c.x_m * 1e3:g} mm "
+                     f"({(L / 2e3 - c.x_m) * 1e3:g} mm behind the front face)" for c in contacts)
+    src = (f"cubot_cad {type(robot).__name__} component table (wheel: axle x, axle z - radius; caster: ball "
+           f"centre x, centre z - radius; robot frame, {L:g} mm long): {what}")
+    return {"ground_contacts": contacts, "ground_contacts_source": src}
+
+
 @dataclass(frozen=True)
 class ConnectorProperties:
     """Compliance of one docked coupling, lumped at the coupling point.
@@ -169,6 +248,12 @@ class RobotProperties:
     #: deck_height_m``; and what it was measured from. None: not known, or no deck (no top-down coupling).
     deck_height_m: float | None = None
     deck_height_source: str | None = None
+    #: Where the robot touches a flat ground (wheels, casters; :class:`GroundContact`, robot
+    #: frame), and what they were derived from. None: not in the record (a record written before
+    #: them, or a robot without wheels that lies on its underside): `structure_fem` then falls back
+    #: (see ``structure_fem.contacts``).
+    ground_contacts: tuple[GroundContact, ...] | None = None
+    ground_contacts_source: str | None = None
 
     def __post_init__(self) -> None:
         require(bool(self.name), "robot name must not be empty")
@@ -186,6 +271,20 @@ class RobotProperties:
         for name in ("wheel_exposed_height_m", "caster_exposed_height_m"):
             v = getattr(self, name)
             require(_finite(v) and v >= 0, f"{self.name}.{name} must be >= 0, got {v!r}")
+        gc, gsrc = self.ground_contacts, self.ground_contacts_source
+        if gc is None:
+            require(gsrc is None, f"{self.name}.ground_contacts_source is given without ground_contacts")
+        else:
+            require(len(gc) >= 1, f"{self.name}.ground_contacts is empty (omit it for a robot without contacts)")
+            require(isinstance(gsrc, str) and bool(gsrc.strip()),
+                    f"{self.name}.ground_contacts needs a ground_contacts_source saying where they come from")
+            xs = [(c.feature, c.x_m) for c in gc]
+            require(len(set(xs)) == len(xs), f"{self.name}: duplicate ground contacts {xs}")
+            half = self.length_m / 2
+            for c in gc:
+                require(abs(c.x_m) <= half + 1e-9,
+                        f"{self.name}: ground contact {c.feature} at x = {c.x_m:g} m is outside the body "
+                        f"(+-{half:g} m)")
         require(len(self.com_m) == 3 and all(_finite(c) for c in self.com_m),
                 f"{self.name}.com_m must be 3 finite numbers, got {self.com_m!r}")
         require(len(self.inertia_kg_m2) == 6 and all(_finite(c) for c in self.inertia_kg_m2),
@@ -198,6 +297,20 @@ class RobotProperties:
                 f"{self.name}.inertia_kg_m2 violates the triangle inequality: {self.inertia_kg_m2!r}")
         kinds = [c.kind for c in self.connectors]
         require(len(set(kinds)) == len(kinds), f"{self.name}: duplicate connector kinds {kinds}")
+
+    @property
+    def front_contact_setback_m(self) -> float | None:
+        """How far the front-most ground contact sits behind the front face (m; None: no contacts)."""
+        if not self.ground_contacts:
+            return None
+        return self.length_m / 2 - max(c.x_m for c in self.ground_contacts)
+
+    @property
+    def rear_contact_setback_m(self) -> float | None:
+        """How far the rear-most ground contact sits ahead of the rear face (m; None: no contacts)."""
+        if not self.ground_contacts:
+            return None
+        return self.length_m / 2 + min(c.x_m for c in self.ground_contacts)
 
     def connector(self, kind: str) -> ConnectorProperties:
         """The connector of ``kind``; :class:`InputError` if this robot has none."""

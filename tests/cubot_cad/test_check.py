@@ -56,6 +56,25 @@ def test_thinnest_wall_of_a_solid_block():
 
 
 def test_parts_slice_with_prusa_slicer(export_dir, require_tool):
+    """`cad check` slices each part with the settings its manifest entry records (the locking key:
+    25 % infill, no supports; the grooved pin: 100 %), and the totals add quantities up."""
+    import json
+
+    from cubot_cad.check import slicing_totals
+
     require_tool(slicer_path(), "prusa-slicer")
-    c = check_file(export_dir / "platform" / "test_platform.stl", export_dir, do_slice=True)
-    assert c.slice["ok"] and c.slice["print_time"]
+    man = json.loads((export_dir / "manifest.json").read_text())
+    rec = {p["file"]: p for p in man["parts"]}
+    files = ["cubot/locking_key.stl", "cubot/pinset_e_grooved_pin.stl"]
+    checks = [check_file(export_dir / f, export_dir, do_slice=True, samples=300) for f in files]
+    for f, c in zip(files, checks, strict=True):
+        s, want = c.slice, rec[f]["print_settings"]
+        assert s["ok"], s["detail"]
+        assert s["settings_source"] == "manifest.json" and s["settings"] == want
+        assert f"{want['infill_percent']:g}%" in s["args"]
+        assert ("--support-material" in s["args"]) is bool(want["supports"])
+        assert s["print_time"] and s["print_time_s"] > 0 and 0 < s["printed_mass_g"] <= s["filament_g"]
+    tot = slicing_totals(checks, export_dir)["cubot"]
+    pin_q = rec[files[1]]["quantity"]
+    assert tot["parts"] == 1 + pin_q and tot["complete"] and tot["solid_over_printed_pct"] is not None
+    assert tot["filament_g"] == pytest.approx(checks[0].slice["filament_g"] + pin_q * checks[1].slice["filament_g"])

@@ -121,7 +121,9 @@ def test_every_robot_has_a_bill_of_materials(export_dir, robots):
         fast = [x for x in rows if x["category"] == "fastener"]
         assert fast and all(x["size"].split()[0] in THREADS and int(x["quantity"]) > 0 for x in fast), name
     cub = {x["item"]: x for x in csv.DictReader((export_dir / "cubot" / "bom.csv").open())}
-    assert int(cub["M3 insert"]["quantity"]) == 4 and int(cub["M3x20 ISO 10642"]["quantity"]) == 16
+    assert int(cub["M3 insert"]["quantity"]) == 4 + 4  # the cover's and the side rails'
+    assert int(cub["M3x20 ISO 10642"]["quantity"]) == 16
+    assert int(cub["M3x12 ISO 10642"]["quantity"]) == 2 and int(cub["M3x8 ISO 10642"]["quantity"]) == 2  # rails
     assert int(cub["latch_shaft"]["quantity"]) == 2 and int(cub["wheel"]["quantity"]) == 2
     assert {"motor", "battery", "servo"} <= {w for x in cub.values() for w in ("motor", "battery", "servo")
                                               if w in x["item"]}

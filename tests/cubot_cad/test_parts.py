@@ -60,8 +60,18 @@ def test_grooved_pin_volume_is_the_analytic_sum_of_its_cylinders(c):
     expected = math.pi * ((s.head_diameter_mm / 2) ** 2 * s.head_mm
                           + r ** 2 * (s.protrusion_mm - x_head - s.head_mm - (g1 - g0) - ch)
                           + (s.groove_diameter_mm / 2) ** 2 * (g1 - g0)) + cone
-    assert ch > 0
-    assert pin.volume_mm3 == pytest.approx(expected, rel=1e-6)
+    # less the flat it prints lying on: a circular segment of each section below z = -(r - flat)
+    from scipy.integrate import quad
+
+    d = r - s.pin_flat_mm
+
+    def seg(rr):
+        return rr * rr * math.acos(d / rr) - d * math.sqrt(rr * rr - d * d) if rr > d else 0.0
+
+    flat = (seg(s.head_diameter_mm / 2) * s.head_mm + seg(r) * (s.protrusion_mm - x_head - s.head_mm - (g1 - g0) - ch)
+            + seg(s.groove_diameter_mm / 2) * (g1 - g0) + quad(lambda u: seg(r - u), 0.0, ch)[0])
+    assert ch > 0 and s.pin_flat_mm > 0 and s.groove_diameter_mm / 2 < d  # the flat misses the groove
+    assert pin.volume_mm3 == pytest.approx(expected - flat, rel=1e-6)
 
 
 def test_platform_volume_is_plate_plus_tab_minus_recess_and_holes():

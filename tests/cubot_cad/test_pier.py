@@ -117,8 +117,9 @@ def test_every_interface_docks_and_its_key_engages(column):
 def test_without_the_deck_the_running_surface_is_blocked_by_the_collar(bare):
     """What the CAD says about a line robot rolling over the pier's bare top cover: its lowest part
     besides wheels and casters (the caster seats, 2.78 mm) is lower than the collar (8.7 mm),
-    which lies in the track of its cross key and casters; the right wheel runs over two cover
-    screws' 3 mm socket heads. The top cover is not a running surface as the robot is drawn."""
+    which lies in the track of its cross key and casters; each wheel runs over two cover screws'
+    3 mm socket heads (wheels and cover screws are both centred on the body). The top cover is not a
+    running surface as the robot is drawn."""
     rs = bare.running_surface
     assert not rs["ok"] and rs["wheels_on_surface"] and rs["surface"] == "top cover"
     assert bare.deck_height_mm is None and bare.running_surface_mm() == bare.top_height_mm()
@@ -128,7 +129,7 @@ def test_without_the_deck_the_running_surface_is_blocked_by_the_collar(bare):
     assert collar["height_mm"] == pytest.approx(8.705, abs=0.01) and collar["blocks"]
     assert {m["line_part"] for m in collar["meets"]} == {"twist_key", "caster_seat", "caster_ball"}
     heads = [p for p in rs["protrusions"] if p["role"] == "screw_head"]
-    assert len(heads) == 4 and sum(p["blocks"] for p in heads) == 2  # under the right wheel only
+    assert len(heads) == 4 and sum(p["blocks"] for p in heads) == 4  # under both wheels
     assert all(m["line_part"] == "wheel" for p in heads for m in p["meets"])
     assert set(rs["blocking"]) == {"cover_cross_hole"} | {p["part"] for p in heads if p["blocks"]}
     assert rs["clearance_margin_mm"] == pytest.approx(2.775 - 8.705, abs=0.02)  # negative: it does not pass
@@ -231,7 +232,8 @@ def test_the_deck_height_moves_with_its_plate(cubot, top_down, column):
     ({"ring_radius_mm": 20.0}, "PierDeck.ring_radius_mm 20"),  # inside the key flange
     ({"ring_radius_mm": 46.0}, "PierDeck.ring_radius_mm 46"),  # beyond the 90 mm wide cover
     ({"ring_wall_mm": 0.5}, "PierDeck.ring_wall_mm"),
-    ({"width_mm": 80.0}, "PierDeck.width_mm 80"),  # short of the wheel track
+    # short of the wheel track (+-39 mm about the body's centre; a ring that fits the narrower plate)
+    ({"width_mm": 76.0, "ring_radius_mm": 36.0}, "PierDeck.width_mm 76"),
     ({"length_mm": 90.0}, "PierDeck.length_mm 90"),  # shorter than the robot
 ])
 def test_bad_deck_dimensions_are_one_line_input_errors(cubot, dims, word):
@@ -298,8 +300,8 @@ def test_the_deck_is_exported_and_listed_once_per_pier(export_dir, cubot):
 
 
 def test_stability_margin_is_com_to_edge_less_lean_times_height(column):
-    poly = column.support_polygon_mm  # wheel treads (0, +-31..39) and the casters (+-38, 0)
-    assert sorted(poly) == sorted([(-38.0, 0.0), (0.0, -39.0), (38.0, 0.0), (0.0, 39.0)])
+    poly = column.support_polygon_mm  # wheel treads (0, 2 +- 31..39: centred on the body) and the casters (+-38, 0)
+    assert sorted(poly) == sorted([(-38.0, 0.0), (0.0, -37.0), (38.0, 0.0), (0.0, 41.0)])
     st0, st5 = column.stability(0.0), column.stability(5.0)
     assert st0["margin_mm"] == st0["com_to_edge_mm"] > 20
     h = column.com_height_mm

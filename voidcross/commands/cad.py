@@ -30,6 +30,9 @@ EPILOG = """examples:
   voidcross cad export                            all robots: STL + STEP + GLB + manifest into exports/
   voidcross cad export --robot cubot --format stl,step,3mf --material pla --out /tmp/cubot
   voidcross cad export --clearance-mm 0.3         looser fit for a worn printer
+  voidcross cad export --robot cubot --set wall_mm=3 --set pin_diameter_mm=5.5
+                                                  tuned dimensions (each checked by the robot's own validation)
+  voidcross cad check --robot cubot --set wall_mm=3   build with them and check the parts (nothing kept)
   voidcross cad dock --json                       docked gap, interference and capture range of every coupling
   voidcross cad check exports/                    watertight, manifold, bed, thinnest wall, slicing
   voidcross cad render --out /tmp/img --docs      PNGs of robots, docked pairs, CuBot bridge (+ docs/img)
@@ -52,6 +55,17 @@ def _clearance(value: str) -> float:
     return v
 
 
+def _resolve(args, robots) -> tuple:
+    """Resolve ``--clearance-mm`` and ``--set`` (the same clearance either way) into
+    ``args.clearance_mm`` and return the other settings, refusing one that none of ``robots`` has."""
+    from cubot_cad.settings import check_applicable, parse_settings, resolve_clearance
+
+    settings = parse_settings(getattr(args, "set", None) or ())
+    args.clearance_mm, rest = resolve_clearance(settings, args.clearance_mm, DEFAULT_CLEARANCE_MM)
+    check_applicable(rest, robots)
+    return rest
+
+
 def _robots_count(value: str) -> int:
     try:
         return int(value)
@@ -71,41 +85,56 @@ def _bar(items, desc, total):
     return progress(items, desc, total)
 
 
-def _docked(robots, clearance):
+def _docked(robots, clearance, settings=()):
     from cubot_cad.docking import dock, pairs_for
 
     names = pairs_for(robots)
     pairs = []
     for n in progress(names, "docking", len(names)):
-        pairs.append(dock(n, clearance))
+        pairs.append(dock(n, clearance, settings=settings) if settings else dock(n, clearance))
     return pairs
 
 
 def do_export(out: Path, robots, formats, material: str, clearance: float, with_dock: bool = True,
-              packaged_default: bool = False) -> dict:
+              packaged_default: bool = False, settings: tuple = (), slice_parts: bool = False) -> dict:
     """Dock, check and export; all or nothing (a failing docked pair is an InputError, exit 2,
-    and nothing is written: see :mod:`cubot_cad.export`)."""
-    from cubot_cad.export import ROBOT_NAMES, export_robots
+    and nothing is written: see :mod:`cubot_cad.export`). ``settings``: ``--set`` dimensions;
+    ``slice_parts``: slice every STL with its recorded settings into the manifest (``--slice``)."""
+    from cubot_cad.errors import InputError
+    from cubot_cad.export import ROBOT_NAMES, export_robots, make_robot
     from cubot_cad.part import check_clearance
     from cubot_cad.part import material as mat
+    from cubot_cad.settings import settings_text
 
     check_clearance(clearance, "--clearance-mm")
     mat(material)
     if packaged_default and tuple(robots) != ROBOT_NAMES:
-        from cubot_cad.errors import InputError
-
         raise InputError("--packaged-default needs --robot all (the packaged file lists every robot)")
+    if packaged_default and settings:
+        raise InputError(f"--packaged-default with --set {settings_text(settings)}: the packaged file holds the "
+                         "default robots")
+    for name in robots:  # every robot builds with the settings before any docking or writing
+        make_robot(name, clearance, settings)
     t0 = time.perf_counter()
-    pairs = _docked(robots, clearance) if with_dock else None
-    stack = _stack_fields(robots, clearance, pairs)  # before anything is written
-    res = export_robots(robots, out, formats, material, clearance, progress=_bar, pairs=pairs)
+    pairs = _docked(robots, clearance, settings) if with_dock else None
+    stack = _stack_fields(robots, clearance, pairs, settings)  # before anything is written
+    if slice_parts:
+        from cubot_cad.slicing import slicer_path
+
+        if slicer_path() is None:
+            raise InputError("--slice needs prusa-slicer on PATH (Debian: apt-get install prusa-slicer)")
+        if "stl" not in formats:
+            raise InputError(f"--slice needs stl in --format, got {','.join(formats)}")
+    res = export_robots(robots, out, formats, material, clearance, progress=_bar, pairs=pairs, settings=settings,
+                        slice_parts=slice_parts)
     if stack:
         from cubot_cad.pier import add_record_fields
 
         add_record_fields(res.properties, stack)
     summary = [p.summary() for p in pairs or []]
     payload = {
-        "out": str(out), "material": material.upper(), "clearance_mm": clearance, "formats": list(formats),
+        "out": str(out), "material": material.upper(), "clearance_mm": clearance, "settings": dict(settings),
+        "formats": list(formats),
         "parts": len(res.parts), "printed_items": sum(p.quantity for p in res.parts),
         "all_watertight": all(p.watertight for p in res.parts), "robots": {
             k: {kk: v[kk] for kk in ("printed_mass_g", "total_mass_g", "com_mm", "envelope_mm")}
@@ -121,7 +150,7 @@ def do_export(out: Path, robots, formats, material: str, clearance: float, with_
     return payload
 
 
-def _stack_fields(robots, clearance: float, pairs) -> dict:
+def _stack_fields(robots, clearance: float, pairs, settings: tuple = ()) -> dict:
     """Standing height, stack pitch and deck height (with their sources) of every exported robot
     that stacks (has the top-down coupling), for its properties record: the pitch and the deck
     height from the measured docked pair and the docked deck, or the designed ones when the export
@@ -132,7 +161,7 @@ def _stack_fields(robots, clearance: float, pairs) -> dict:
 
     out = {}
     for name in robots:
-        f = stack_fields(make_robot(name, clearance), pairs)
+        f = stack_fields(make_robot(name, clearance, settings), pairs)
         if f:
             out[name] = f
     return out
@@ -141,17 +170,21 @@ def _stack_fields(robots, clearance: float, pairs) -> dict:
 def run_export(args) -> int:
     from cubot_cad.export import parse_formats, parse_robots
     from cubot_cad.part import check_clearance, material
+    from cubot_cad.settings import settings_text
 
     robots = parse_robots(args.robot)
     formats = parse_formats(args.format)
+    settings = _resolve(args, robots)
     check_clearance(args.clearance_mm, "--clearance-mm")
     material(args.material)
     # --out is checked now but created only when the export succeeds (a failed one leaves no trace)
     payload = do_export(out_dir(args.out, create=False), robots, formats, args.material, args.clearance_mm,
-                        with_dock=not args.no_dock, packaged_default=args.packaged_default)
+                        with_dock=not args.no_dock, packaged_default=args.packaged_default, settings=settings,
+                        slice_parts=args.slice)
+    tuned = f", {settings_text(settings)}" if settings else ""
     lines = [f"exported {payload['parts']} distinct parts ({payload['printed_items']} printed items) of "
              f"{', '.join(robots)} to {payload['out']} in {payload['seconds']:.1f} s "
-             f"({payload['material']}, clearance {args.clearance_mm:g} mm)"]
+             f"({payload['material']}, clearance {args.clearance_mm:g} mm{tuned})"]
     for name, r in payload["robots"].items():
         lines.append(f"  {name}: printed {r['printed_mass_g']:.1f} g, total {r['total_mass_g']:.1f} g, "
                      f"COM {r['com_mm']} mm")
@@ -167,27 +200,30 @@ def run_export(args) -> int:
 
 
 def run_dock(args) -> int:
-    from cubot_cad.docking import PAIRS, dock
+    from cubot_cad.docking import PAIRS, ROBOT_OF_PAIR, dock
     from cubot_cad.errors import InputError
+    from cubot_cad.export import make_robot
     from cubot_cad.part import check_clearance
 
-    check_clearance(args.clearance_mm, "--clearance-mm")
     names = PAIRS if args.pair == "all" else tuple(p.strip() for p in args.pair.split(","))
     for n in names:
         if n not in PAIRS:
             raise InputError(f"--pair {n!r} is not one of {', '.join(PAIRS)}, all")
+    robots = tuple(dict.fromkeys(ROBOT_OF_PAIR[n] for n in names))
+    settings = _resolve(args, robots)
+    check_clearance(args.clearance_mm, "--clearance-mm")
+    for r in robots:  # the settings build, before any docking
+        make_robot(r, args.clearance_mm, settings)
     if args.out:
         out_dir(args.out, "--out", create=False)  # before the docking checks
-    pairs = [dock(n, args.clearance_mm) for n in progress(names, "docking", len(names))]
+    pairs = [dock(n, args.clearance_mm, settings=settings) for n in progress(names, "docking", len(names))]
     rows = [p.summary() for p in pairs]
     captures = {}
     if not args.no_capture:
         from cubot_cad.capture import measure
-        from cubot_cad.docking import ROBOT_OF_PAIR
-        from cubot_cad.export import make_robot
 
         for p, row in zip(progress(pairs, "capture", len(pairs)), rows, strict=True):
-            cap = measure(make_robot(ROBOT_OF_PAIR[p.name], args.clearance_mm), p.name, p)
+            cap = measure(make_robot(ROBOT_OF_PAIR[p.name], args.clearance_mm, settings), p.name, p)
             captures[p.name] = cap
             row["capture"] = None if cap is None else cap.summary()
             if cap is not None and not cap.ok:
@@ -196,7 +232,8 @@ def run_dock(args) -> int:
         from cubot_cad.jsonrecord import write_json_atomic
 
         d = out_dir(args.out)
-        write_json_atomic(d / "docked_pairs.json", {"clearance_mm": args.clearance_mm, "pairs": rows})
+        write_json_atomic(d / "docked_pairs.json", {"clearance_mm": args.clearance_mm, "settings": dict(settings),
+                                                    "pairs": rows})
         if args.step:
             for p in pairs:
                 p.assembly().export(str(d / f"{p.name}.step"), exportType="STEP")
@@ -213,12 +250,11 @@ def run_dock(args) -> int:
                       + (f"   lateral play {p.play_mm:.3f} mm" if p.play_mm is not None else "")
                       + cap_text(p)
                       + ("" if p.ok else f"   FAIL ({'; '.join(p.problems())})") for p in pairs)
-    emit(args, {"clearance_mm": args.clearance_mm, "pairs": rows}, human)
+    emit(args, {"clearance_mm": args.clearance_mm, "settings": dict(settings), "pairs": rows}, human)
     return 0 if all(r["ok"] for r in rows) else 1
 
 
 def run_check(args) -> int:
-    from cubot_cad.check import check_file, slicer_path, stl_files
     from cubot_cad.errors import InputError
 
     if args.samples < 100:
@@ -226,7 +262,38 @@ def run_check(args) -> int:
     if args.samples > 1_000_000:
         raise InputError(f"--samples {args.samples} is more than the thin-wall probe needs (<= 1,000,000; "
                          "each sample costs memory)")
-    root = Path(args.dir)
+    build = bool(args.set) or args.robot is not None or args.clearance_mm is not None
+    if build:  # check the parts of robots built now with these dimensions (into a temporary directory)
+        if args.dir is not None:
+            raise InputError(f"cad check {args.dir}: a directory, or --robot/--clearance-mm/--set to build and "
+                             "check fresh parts, not both")
+        import tempfile
+
+        from cubot_cad.export import export_robots, make_robot, parse_robots
+
+        robots = parse_robots(args.robot or "all")
+        settings = _resolve(args, robots)
+        for name in robots:
+            make_robot(name, args.clearance_mm, settings)
+        tmp = tempfile.TemporaryDirectory(prefix="cad-check-")
+        root = Path(tmp.name) / "build"
+    else:
+        tmp = None
+        root = Path(args.dir if args.dir is not None else DEFAULT_OUT)
+    try:
+        if tmp is None:
+            return _check_dir(args, root, None)
+        export_robots(robots, root, ("stl",), "abs", args.clearance_mm, progress=_bar, settings=settings)
+        return _check_dir(args, root, (robots, args.clearance_mm, settings))
+    finally:
+        if tmp is not None:
+            tmp.cleanup()
+
+
+def _check_dir(args, root: Path, built) -> int:
+    from cubot_cad.check import check_file, slicer_path, stl_files
+    from cubot_cad.errors import InputError
+
     files = stl_files(root)
     do_slice = not args.no_slice
     results, unreadable = [], []
@@ -242,13 +309,20 @@ def run_check(args) -> int:
         rows.append(row)
     bad = [r for r in results if not r.ok]
     slicer = slicer_path()
-    payload = {"dir": str(root), "files": len(results) + len(unreadable), "failed": len(bad),
+    payload = {"dir": str(root) if built is None else None, "files": len(results) + len(unreadable), "failed": len(bad),
                "unreadable": unreadable,
                "slicer": slicer or None,
                "slicing": "ran" if (slicer and do_slice) else ("disabled (--no-slice)" if not do_slice else
                                                                "skipped: prusa-slicer not on PATH"),
                "parts": rows}
     lines = []
+    if built is not None:
+        from cubot_cad.settings import settings_text
+
+        robots, c, settings = built
+        payload["built"] = {"robots": list(robots), "clearance_mm": c, "settings": dict(settings)}
+        lines.append(f"built {', '.join(robots)} (clearance {c:g} mm" + (f", {settings_text(settings)}" if settings
+                                                                        else "") + "); nothing kept")
     for r in results:
         flags = []
         if not r.watertight:
@@ -260,9 +334,23 @@ def run_check(args) -> int:
         if not r.wall_ok:
             flags.append(f"thinnest wall {r.thinnest_wall_mm} mm < 0.8 mm")
         sl = r.slice or {}
-        sliced = (f", print {sl.get('print_time')}, {sl.get('filament_g')} g" if sl.get("ok") else "")
+        sliced = (f", print {sl.get('print_time')}, {sl.get('filament_g')} g filament, "
+                  f"{sl.get('printed_mass_g')} g printed ({sl.get('settings_source')})" if sl.get("ok") else "")
+        if sl and sl.get("ok") is False and not sl.get("skipped"):
+            flags.append(f"slice failed: {sl.get('detail')}")
         lines.append(f"{'ok  ' if r.ok else 'FAIL'} {r.file}: wall >= {r.thinnest_wall_mm} mm, "
                      f"size {r.size_mm} mm{sliced}" + (f" [{'; '.join(flags)}]" if flags else ""))
+    if slicer and do_slice:  # per robot: print time, filament, printed vs solid-model mass
+        from cubot_cad.check import slicing_totals
+        from cubot_cad.slicing import duration_text
+
+        totals = slicing_totals(results, root)
+        payload["slicing_totals"] = totals
+        for name, t in totals.items():
+            lines.append(f"{name}: {t['sliced']}/{t['parts']} parts sliced, print {duration_text(t['print_time_s'])}, "
+                         f"filament {t['filament_g']:.1f} g, printed {t['printed_mass_g']:.1f} g; solid model "
+                         f"{t['solid_mass_g']:.1f} g" + (f" ({t['solid_over_printed_pct']:+.1f} %)"
+                                                        if t["solid_over_printed_pct"] is not None else ""))
     lines.append(f"{len(results) - len(bad)}/{len(results)} parts printable"
                  + (f", {len(unreadable)} unreadable" if unreadable else "") + f"; slicing: {payload['slicing']}")
     emit(args, payload, "\n".join(lines))
@@ -280,11 +368,18 @@ def run_render(args) -> int:
     from cubot_cad.render import render_bridge, render_pair, render_robot
 
     robots = parse_robots(args.robot)
+    settings = _resolve(args, robots)
     check_clearance(args.clearance_mm, "--clearance-mm")
+    for name in robots:
+        make_robot(name, args.clearance_mm, settings)
     d = out_dir(args.out)
     targets = [d] + ([Path("docs/img")] if args.docs else [])
     written = []
     jobs = [("robot", r) for r in robots] + ([("pair", p) for p in pairs_for(robots)] if not args.no_pairs else [])
+    if args.exploded:
+        from cubot_cad.exploded import PLANS
+
+        jobs += [("exploded", r) for r in robots if r in PLANS]
     if "cubot" in robots and not args.no_pairs:
         from cubot_cad.gltf import BRIDGE_NAME
 
@@ -292,12 +387,18 @@ def run_render(args) -> int:
     for kind, name in progress(jobs, "render", len(jobs)):
         for t in targets:
             if kind == "robot":
-                written.append(str(render_robot(make_robot(name, args.clearance_mm), t / f"{name}.png")))
+                written.append(str(render_robot(make_robot(name, args.clearance_mm, settings), t / f"{name}.png")))
+            elif kind == "exploded":
+                from cubot_cad.exploded import exploded_view
+
+                written.append(str(exploded_view(make_robot(name, args.clearance_mm, settings),
+                                                 t / f"{name}-exploded.png")))
             elif kind == "bridge":
-                written.append(str(render_bridge(make_robot("cubot", args.clearance_mm),
-                                                 dock("cubot-front-rear", args.clearance_mm), t / f"{name}.png")))
+                written.append(str(render_bridge(make_robot("cubot", args.clearance_mm, settings),
+                                                 dock("cubot-front-rear", args.clearance_mm, settings=settings),
+                                                 t / f"{name}.png")))
             else:
-                written.append(str(render_pair(dock(name, args.clearance_mm), t / f"{name}.png")))
+                written.append(str(render_pair(dock(name, args.clearance_mm, settings=settings), t / f"{name}.png")))
     emit(args, {"files": written}, "\n".join(written))
     return 0
 
@@ -313,9 +414,11 @@ def run_pier(args) -> int:
 
     k = check_robots(args.robots, "--robots")
     lean = check_lean(args.lean_deg, "--lean-deg")
+    settings = _resolve(args, ("cubot",))
     check_clearance(args.clearance_mm, "--clearance-mm")
+    robot = make_robot("cubot", args.clearance_mm, settings)
     out_dir(args.out, create=False)  # before any work
-    col = PierColumn(make_robot("cubot", args.clearance_mm), k, deck=not args.no_deck)
+    col = PierColumn(robot, k, deck=not args.no_deck)
     payload = col.summary(lean)
     d = out_dir(args.out)
     stem = f"pier-cubot-{k}"
@@ -450,6 +553,15 @@ def pipeline_stage(out: Path, ctx: dict) -> str:
             f"{len(pngs)} renders; {out}/robot_properties.json")
 
 
+def _add_set(q) -> None:
+    from cubot_cad.settings import SETTINGS
+
+    q.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="set a dimension (mm), repeatable: " + "; ".join(
+                       f"{s.name} ({', '.join(s.robots)})" for s in SETTINGS.values())
+                   + ". Each is checked by the robot's own validation (exit 2 and nothing written if refused)")
+
+
 def register(sub, common) -> None:
     p = sub.add_parser("cad", parents=[common], help="cubot_cad: parametric robots, printable exports, mass properties",
                        description=__doc__.split("\n\n")[0], epilog=EPILOG,
@@ -457,13 +569,15 @@ def register(sub, common) -> None:
     csub = p.add_subparsers(dest="cad_command", metavar="SUBCOMMAND", parser_class=type(p))
     p.set_defaults(func=lambda a: (p.print_help(), 0)[1])
 
-    def add_common(q, robot=True):
+    def add_common(q, robot=True, tune=True):
         if robot:
             q.add_argument("--robot", default="all", help="cubot, octbot, cube-robot, platform, a comma list or all")
-        q.add_argument("--clearance-mm", type=_clearance, default=DEFAULT_CLEARANCE_MM, metavar="MM",
+        q.add_argument("--clearance-mm", type=_clearance, default=None, metavar="MM",
                        help=f"print clearance per side on every mating pair, {clearance_range_text()} "
                             f"(default {DEFAULT_CLEARANCE_MM:g}; {MIN_CLEARANCE_MM:g} is a tight fit, "
-                            f"{MAX_CLEARANCE_MM:g} a loose one)")
+                            f"{MAX_CLEARANCE_MM:g} a loose one; the same as --set clearance_mm=MM)")
+        if tune:
+            _add_set(q)
 
     e = csub.add_parser("export", parents=[common], help="printable STL/STEP/3MF per part, manifest, robot_properties.json",
                         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -477,6 +591,9 @@ def register(sub, common) -> None:
                    help="skip the docked pairs (connector gaps then come from the connector geometry alone)")
     e.add_argument("--packaged-default", action="store_true",
                    help="maintainers: also write cubot_cad/data/robot_properties.json (needs --robot all)")
+    e.add_argument("--slice", action="store_true",
+                   help="slice every STL with its recorded print settings (prusa-slicer; 2-4 min): print time, "
+                        "filament and printed grams per part and robot in manifest.json")
     e.set_defaults(func=run_export)
 
     d = csub.add_parser("dock", parents=[common], help="docked pairs: gap, interference and capture range of every coupling",
@@ -492,7 +609,13 @@ def register(sub, common) -> None:
 
     c = csub.add_parser("check", parents=[common], help="printability of exported STLs",
                         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    c.add_argument("dir", nargs="?", default=DEFAULT_OUT, help=f"directory of STLs (default {DEFAULT_OUT}/)")
+    c.add_argument("dir", nargs="?", default=None, help=f"directory of STLs (default {DEFAULT_OUT}/)")
+    c.add_argument("--robot", default=None,
+                   help="instead of a directory: build these robots now (cubot, ..., a comma list or all) with "
+                        "--clearance-mm and --set and check their parts (nothing is kept)")
+    c.add_argument("--clearance-mm", type=_clearance, default=None, metavar="MM",
+                   help=f"with a build (see --robot): the print clearance per side, {clearance_range_text()}")
+    _add_set(c)
     c.add_argument("--no-slice", action="store_true", help="do not run prusa-slicer even if installed")
     c.add_argument("--samples", type=int, default=3000, help="surface samples of the thin-wall probe (default 3000)")
     c.set_defaults(func=run_check)
@@ -503,6 +626,8 @@ def register(sub, common) -> None:
     r.add_argument("--out", default=f"{DEFAULT_OUT}/img", help=f"output directory (default {DEFAULT_OUT}/img)")
     r.add_argument("--docs", action="store_true", help="also write docs/img/")
     r.add_argument("--no-pairs", action="store_true", help="robots only")
+    r.add_argument("--exploded", action="store_true",
+                   help="also the exploded views of docs/assembly.md (<robot>-exploded.png)")
     r.set_defaults(func=run_render)
 
     pr = csub.add_parser("pier", parents=[common], help="a pier of CuBots stacked top-down: heights, checks, STEP/GLB",
