@@ -156,6 +156,7 @@ def resolve(robot: RobotProperties, source: str = "fe", cache_dir=None,
     if source not in SOURCES:
         raise InputError(f"connector source {source!r} is not one of {', '.join(SOURCES)}")
     notes: dict[str, str] = {}
+    record = robot
     if source == "fe":
         fe, where = fe_front_rear_for(robot, cache_dir)
         if fe is not None:
@@ -163,6 +164,18 @@ def resolve(robot: RobotProperties, source: str = "fe", cache_dir=None,
             notes["front_rear"] = f"fe (result found in the {where})"
         elif any(c.kind == "front_rear" for c in robot.connectors):
             notes["front_rear"] = f"record (hand formula): {where}"
+        key, why_key = planar_top_twist_for(record)
+        if key is not None:
+            robot = _swap(robot, key)
+            notes["top_twist"] = "record's key arms (vertical, pitch); horizontal: the key stem (planar_top_twist_for)"
+        elif any(c.kind == "top_twist" for c in robot.connectors):
+            notes["top_twist"] = f"record (horizontal = the arms' vertical value): {why_key}"
+        rail, why = planar_side_rail_for(record)
+        if rail is not None:
+            robot = _swap(robot, rail)
+            notes["side_rail"] = "record's rail lips, in pitch over the staggered overlap (planar_side_rail_for)"
+        elif any(c.kind == "side_rail" for c in robot.connectors):
+            notes["side_rail"] = f"record (roll about the rail's axis): {why}"
     if measured is not None:
         for c in load_measured(measured, robot):
             robot = _swap(robot, c)
@@ -170,6 +183,126 @@ def resolve(robot: RobotProperties, source: str = "fe", cache_dir=None,
     for c in robot.connectors:
         notes.setdefault(c.kind, "record")
     return robot, notes
+
+
+def rail_in_pitch(rec: ConnectorProperties, rail_length_m: float, overlap_m: float,
+                  aligned_overlap_m: float | None = None) -> ConnectorProperties:
+    """The side rail as the planar model needs it: in **pitch** (the two lines' bodies turning
+    relative to each other about the horizontal axis across the structure) over the length
+    ``overlap_m`` the two rails actually engage, instead of about the rail's own axis (roll).
+
+    The record's hand formula gives the lips' vertical stiffness for the whole rail,
+    ``k = 2 k_lip`` (``axial_stiffness_n_per_m``, lips as cantilevers over ``rail_length_m``), so
+    per metre of engagement ``q = k / rail_length``. Over an overlap ``l`` (uniform springs
+    ``q`` about its centre): vertical ``k_z = q l``, pitch ``k_pitch = q l^3 / 12``. The
+    tongue's vertical play ``d`` between the flanks (``rail_vertical``, the CAD's clearance)
+    lets the coupling turn by ``2 d / l`` before both ends of the overlap bear. Along the rail
+    (x) the record's value is kept. The model's rectangle ``|z| <= d``, ``|theta| <= 2 d / l``
+    contains the true free region ``|z| + |theta| l / 2 <= d`` (its corners are looser)."""
+    if not (rail_length_m > 0 and 0 < overlap_m <= rail_length_m + 1e-12):
+        raise InputError(f"side rail overlap {overlap_m:g} m outside (0, rail length {rail_length_m:g} m]")
+    q = rec.axial_stiffness_n_per_m / rail_length_m
+    pl = rec.play_of("rail_vertical")
+    d = 0.0 if pl is None else pl.play_m
+    k_pitch = q * overlap_m ** 3 / 12
+    extra = ""
+    if aligned_overlap_m is not None:
+        extra = (f"; aligned lines overlap {aligned_overlap_m * 1e3:.4g} mm (k_pitch {q * aligned_overlap_m ** 3 / 12:.4g} "
+                 "N m/rad) but merge into one planar body: no rail coupling in the model")
+    return replace(rec, rotational_stiffness_nm_per_rad=k_pitch, shear_stiffness_n_per_m=q * overlap_m,
+                   backlash_rad=2 * d / overlap_m,
+                   provenance=(f"hand formula: rail in pitch over the {overlap_m * 1e3:.4g} mm staggered overlap "
+                               f"(rail {rail_length_m * 1e3:.4g} mm less half a pitch): lips' vertical stiffness per "
+                               f"length q = {rec.axial_stiffness_n_per_m:.4g} N/m / {rail_length_m * 1e3:.4g} mm "
+                               f"(record: two groove lips as cantilevers E w t^3 / 4 L^3), k_z = q l, k_pitch = "
+                               f"q l^3 / 12, pitch play = 2 x {d * 1e3:.3g} mm (rail_vertical) / l; along the rail "
+                               f"the record's {rec.axial_stiffness_n_per_m:.4g} N/m" + extra))
+
+
+def planar_side_rail_for(robot: RobotProperties):
+    """``(ConnectorProperties or None, why not)``: the record's side rail in pitch over the
+    staggered overlap (:func:`rail_in_pitch`), for a record whose couplings are the parametric
+    CuBot's hand formulas (:func:`cubot_for_record`: its rail length is the CAD's); the overlap
+    is the rail length less half a pitch (robot length + docked gap)."""
+    if not any(c.kind == "side_rail" for c in robot.connectors):
+        return None, "the record has no side rail"
+    cub, why = cubot_for_record(robot)
+    if cub is None:
+        return None, why
+    rec = robot.connector("side_rail")
+    hand = cub.connector_properties(robot.youngs_modulus_pa, {"front_rear": robot.connector("front_rear").gap_m * 1e3})[1]
+    if not all(_same(getattr(hand, f), getattr(rec, f)) for f in
+               ("rotational_stiffness_nm_per_rad", "axial_stiffness_n_per_m", "backlash_rad", "height_m")):
+        return None, "the record's side rail is not the parametric CuBot's hand formula (edited or another geometry)"
+    length = cub.rail_spec.length_mm * 1e-3
+    pitch = robot.length_m + robot.connector("front_rear").gap_m
+    overlap = length - pitch / 2
+    if overlap <= 0:
+        return None, f"staggered rails ({length * 1e3:g} mm) do not overlap at half a {pitch * 1e3:g} mm pitch"
+    return rail_in_pitch(rec, length, overlap, aligned_overlap_m=length), ""
+
+
+#: Poisson's ratio of printed ABS/PLA for the key stem's shear (assumption, as connector_fe's).
+KEY_POISSON = 0.35
+#: Shear coefficient of the key stem's thick-walled tube section (Timoshenko; ~0.5 thin tube, 0.9 solid).
+KEY_SHEAR_COEFFICIENT = 0.8
+
+
+def key_horizontal_stiffness(youngs_modulus_pa: float, stem_od_m: float, bore_m: float, lever_m: float) -> float:
+    """Horizontal stiffness (N/m) of a twist key: its stem (a tube of outer diameter ``stem_od_m``
+    and bore ``bore_m``) as a short cantilever from the thrust disc under the floor to the
+    collar roof that bears on it ``lever_m`` below, bending ``3 E I / L^3`` in series with shear
+    ``kappa G A / L`` (``G = E / (2 (1 + nu))``; the stem is stubby, L about 0.7 D, so shear
+    matters). The shaft's bearing in the floor and the floor plate are taken rigid (upper bound)."""
+    for name, v in (("stem diameter", stem_od_m), ("lever", lever_m)):
+        if not (v > 0):
+            raise InputError(f"key {name} must be > 0 m, got {v!r}")
+    if not (0 <= bore_m < stem_od_m):
+        raise InputError(f"key bore {bore_m!r} m must be in [0, stem diameter {stem_od_m!r} m)")
+    i_area = math.pi * (stem_od_m ** 4 - bore_m ** 4) / 64
+    area = math.pi * (stem_od_m ** 2 - bore_m ** 2) / 4
+    g = youngs_modulus_pa / (2 * (1 + KEY_POISSON))
+    k_bend = 3 * youngs_modulus_pa * i_area / lever_m ** 3
+    k_shear = KEY_SHEAR_COEFFICIENT * g * area / lever_m
+    return 1.0 / (1.0 / k_bend + 1.0 / k_shear)
+
+
+def planar_top_twist_for(robot: RobotProperties):
+    """``(ConnectorProperties or None, why not)``: the record's top twist key with its own
+    horizontal stiffness (:func:`key_horizontal_stiffness`) along x instead of the arms' vertical
+    bending value, which stays the vertical (z, ``shear_stiffness_n_per_m``) one; for a record
+    whose couplings are the parametric CuBot's hand formulas (its key geometry is the CAD's).
+
+    Geometry (docked, :class:`cubot_cad.connectors.TopTwistSpec`, :class:`cubot_cad.twist.TwistKey`):
+    the stem is ``arm_width_mm`` across with the IR bore ``ir_bore_mm``; it hangs from the thrust
+    disc (its bottom ``disc_z_mm[0]`` below the upper robot's underside) to the collar roof, whose
+    centre is ``stand_mm - roof_under_mm - roof_mm / 2`` below that underside."""
+    if not any(c.kind == "top_twist" for c in robot.connectors):
+        return None, "the record has no top twist key"
+    cub, why = cubot_for_record(robot)
+    if cub is None:
+        return None, why
+    rec = robot.connector("top_twist")
+    gaps = {"front_rear": robot.connector("front_rear").gap_m * 1e3, "top_twist": rec.gap_m * 1e3}
+    hand = cub.connector_properties(robot.youngs_modulus_pa, gaps)[2]
+    if not all(_same(getattr(hand, f), getattr(rec, f)) for f in
+               ("rotational_stiffness_nm_per_rad", "axial_stiffness_n_per_m", "backlash_rad", "height_m")):
+        return None, "the record's top twist key is not the parametric CuBot's hand formula (edited or another geometry)"
+    s, d = cub.top_spec, cub.drive_spec
+    roof_mid = s.stand_mm - s.roof_under_mm - s.roof_mm / 2  # below the upper robot's underside
+    disc = -d.disc_z_mm[0]  # the thrust disc's bottom, below the underside
+    lever = (roof_mid - disc) * 1e-3
+    if lever <= 0:
+        return None, f"the collar roof ({roof_mid:g} mm) is not below the key's thrust disc ({disc:g} mm)"
+    od, bore = s.arm_width_mm * 1e-3, s.ir_bore_mm * 1e-3
+    k_h = key_horizontal_stiffness(robot.youngs_modulus_pa, od, bore, lever)
+    k_v = rec.shear_stiffness_n_per_m or rec.axial_stiffness_n_per_m
+    return replace(rec, axial_stiffness_n_per_m=k_h, shear_stiffness_n_per_m=k_v, provenance=(
+        f"hand formula: horizontal (x) = the key stem ({od * 1e3:g} mm tube, {bore * 1e3:g} mm IR bore) as a "
+        f"cantilever from the thrust disc to the collar roof's centre ({lever * 1e3:.3g} mm), bending 3 E I / L^3 in "
+        f"series with shear kappa G A / L (kappa {KEY_SHEAR_COEFFICIENT:g}, nu {KEY_POISSON:g}: assumptions; floor "
+        f"and shaft bearing rigid) = {k_h:.4g} N/m; vertical (z) and pitch = the record's four key arms as "
+        f"cantilevers E w t^3 / 4 L^3 under the collar roof ({k_v:.4g} N/m)")), ""
 
 
 def _swap(robot: RobotProperties, c: ConnectorProperties) -> RobotProperties:

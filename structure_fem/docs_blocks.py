@@ -73,14 +73,24 @@ def _calibration() -> str:
     from structure_fem.calibration import calibrate
 
     cal = calibrate(RobotPropertiesFile.load(default_properties_path()), None).to_dict()  # as `fem calibrate`
-    rows = ["| backlash (rad) | fitted stiffness (N m/rad) | tip 3 / 4 / 5 platforms (mm) |", "|---|---|---|"]
-    rows += [f"| {f['backlash_rad']:.2g} | {f['stiffness_nm_per_rad']:.4g} | {f['tip3_mm']:.2f} / "
-             f"{f['tip4_mm']:.2f} / {f['tip5_mm']:.2f} |" for f in cal["family"]]
-    return ("\n".join(rows) + "\n\n"
-            f"Chosen point (`--calibration-backlash` picks another): b = {cal['bolt_backlash_rad']:g} rad, "
-            f"k = {cal['bolt_stiffness_nm_per_rad']:.4g} N m/rad. The platform record's own estimate is "
-            f"{cal['bolt_stiffness_estimate_nm_per_rad']:.4g} N m/rad, so the fit is "
-            f"{cal['fitted_over_estimate']:.3g} times that.\n")
+    out = []
+    for r in cal["readings"]:
+        su = r["set_up"]
+        rows = [f"**Reading `{r['reading']}`**: {r['description']} ({su['platforms']} platforms, {su['held']} held, "
+                f"{su['on_the_ground']} on the ground, {su['over']} over; supports {su['supports']}).", "",
+                "| backlash (rad) | fitted stiffness (N m/rad) | tip 3 / 4 / 5 platforms (mm) |", "|---|---|---|"]
+        rows += [f"| {f['backlash_rad']:.2g} | {f['stiffness_nm_per_rad']:.4g} | {f['tip3_mm']:.2f} / "
+                 f"{f['tip4_mm']:.2f} / {f['tip5_mm']:.2f} |" for f in r["family"]]
+        rows += ["", f"Chosen point b = {r['bolt_backlash_rad']:g} rad: k = {r['bolt_stiffness_nm_per_rad']:.4g} N m/rad "
+                 f"({r['fitted_over_estimate']:.3g} x the platform record's estimate "
+                 f"{cal['bolt_stiffness_estimate_nm_per_rad']:.4g} N m/rad); fed back into the model it gives "
+                 f"{r['refit_tip5_mm']:.3f} mm for five platforms.", ""]
+        out += rows
+    return ("\n".join(out) + "\n"
+            + f"The two readings' bolt stiffnesses differ by a factor {cal['readings_stiffness_ratio']:.3g}. "
+            f"`--calibration-backlash` picks another point of both families; the `{cal['primary_reading']}` reading "
+            "is the primary one (the top-level fields of `fem calibrate --json`, and the `--connectors calibrated` "
+            "what-if).\n\n" + cal["robot_connectors"] + "\n")
 
 
 def _piers() -> str:

@@ -77,6 +77,9 @@ class StructureLevel:
     max_deflection_mm: float | None = None
     min_tipping_factor: float | None = None
     taper_block_rows: int | None = None
+    #: The launch transients' overshoot at the band's widest void (mm; the threshold criterion is
+    #: max_deflection_mm + dynamic_allowance_mm <= clearance). None: a static derivation / thesis.
+    dynamic_allowance_mm: float | None = None
 
     def __post_init__(self) -> None:
         _req(self.kind in KINDS, f"structure kind {self.kind!r} is not one of {', '.join(KINDS)}")
@@ -94,9 +97,11 @@ class StructureLevel:
              f"structure {self.name!r}: min_robots has {len(self.min_robots)} entries for {n} widths")
         _req(all(isinstance(k, int) and k >= 2 for k in self.min_robots),
              f"structure {self.name!r}: min_robots must be integers >= 2, got {self.min_robots}")
-        for name in ("max_deflection_mm", "min_tipping_factor"):
+        for name in ("max_deflection_mm", "min_tipping_factor", "dynamic_allowance_mm"):
             v = getattr(self, name)
             _req(v is None or math.isfinite(v), f"structure {self.name!r}: {name} is not finite ({v})")
+        _req(self.dynamic_allowance_mm is None or self.dynamic_allowance_mm >= 0,
+             f"structure {self.name!r}: dynamic_allowance_mm must be >= 0, got {self.dynamic_allowance_mm}")
         if self.taper_block_rows is not None:
             _req(self.kind == "arch", f"structure {self.name!r}: only an arch can taper (kind {self.kind!r})")
             _req(isinstance(self.taper_block_rows, int) and 1 <= self.taper_block_rows <= 50,

@@ -159,7 +159,10 @@ def structure_report(d: Derivation, c: Curve, ranges: bool = True) -> dict:
         out.update({"margin_mm": None, "note": "crosses no void within the clearance"})
         return out
     i = c.widths.index(w)
-    out["margin_mm"] = round(clear - c.tip_mm[i], 4)
+    allow = c.allowance_mm.get(w, 0.0)
+    out["dynamic_allowance_mm"] = round(allow, 4) if w in c.allowance_mm else None
+    out["static_threshold"] = c.static_threshold
+    out["margin_mm"] = round(clear - c.tip_mm[i] - allow, 4)
     out["tip_mm"] = round(c.tip_mm[i], 4)
     out["rows"] = c.rows[i]
     out["robots"] = c.robots[i]
@@ -170,6 +173,9 @@ def structure_report(d: Derivation, c: Curve, ranges: bool = True) -> dict:
     out["capped_by_max_width"] = w >= inp.max_width
     try:
         res = solve(Config(s, c.rows[i], w, w), inp.robot, inp.connectors, inp.flexible)
+        # the line the tipping factor is taken about: the front-most contact on the near ledge
+        out["tipping_line_m"] = round(res.tipping_edge_m, 6)
+        out["supports"] = res.layout.ground.kind if res.layout.ground is not None else "corners"
         dec = chain_decomposition(res)
         free = solve(Config(s, c.rows[i], w, w), inp.robot, _no_play(inp).connectors, inp.flexible)
         dec["without_play_tip_mm"] = free.tip_deflection_mm
@@ -177,7 +183,10 @@ def structure_report(d: Derivation, c: Curve, ranges: bool = True) -> dict:
         shares = {"play": dec["play_total_mm"], "support (tipping about the edge)": dec["support_mm"]}
         shares["elastic"] = res.tip_deflection_mm - sum(shares.values())
         out["set_by"] = max(shares, key=lambda k: shares[k])
-        out["set_by_share"] = round(shares[out["set_by"]] / res.tip_deflection_mm, 3)
+        if c.static_threshold is not None and c.static_threshold > w:
+            out["set_by"] = "dynamic"  # the static criterion alone would allow a wider void
+        if out["set_by"] in shares:
+            out["set_by_share"] = round(shares[out["set_by"]] / res.tip_deflection_mm, 3)
         out["decomposition"] = {k: (round(v, 4) if isinstance(v, float) else v) for k, v in dec.items()
                                 if k != "joints"}
     except SolverFailure as exc:

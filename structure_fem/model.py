@@ -18,8 +18,11 @@
   large arches leave the Jacobian singular). The formula is compiled to an
   exudyn symbolic user function (C++; identical results, ~20 % faster tables);
 * each ledge support is a one-sided spring ``f_z = k_c min(dz, 0)``, smoothed
-  over ``CONTACT_SMOOTHING_M``, under a bottom corner (Python user function); one bilateral horizontal spring at
-  the rearmost support fixes the rigid-body x drift (gravity has no x part);
+  over ``CONTACT_SMOOTHING_M``, where the robot touches the ground: at each wheel and caster
+  contact over the ledge (``ground_contacts`` of the robot record, at their depth below the
+  underside; :mod:`structure_fem.contacts`), or under a bottom corner for a robot without
+  contacts (Python user function; ``k_c`` per contact point and robot); one bilateral horizontal
+  spring at the rearmost support fixes the rigid-body x drift (gravity has no x part);
 * a pier (:class:`structure_fem.structures.Pier`, ``Config.piers``) is a point node at the
   centre of its top (``NodePoint2D`` + ``ObjectMassPoint2D``, no gravity on it: the pier's own
   weight goes to the floor) held to the ground by a bilateral spring of the pier's vertical
@@ -58,7 +61,7 @@ from cubot_cad.properties import RobotProperties
 
 from .connectors import SMOOTHING, ConnectorSet, band_force, dead_band_moment
 from .errors import InputError, SolverFailure
-from .structures import GRAVITY, Layout, Pier, Structure, layout, tipping_factor
+from .structures import GRAVITY, Layout, Pier, Structure, layout, tipping_edge, tipping_factor
 
 #: Ledge contact stiffness per support point (N/m): stiff against the couplings, not ill-conditioned.
 CONTACT_N_PER_M = 2.0e6
@@ -122,9 +125,10 @@ class StaticResult:
     bottom corner dropped (positive down); ``joint_rotation_rad``: relative
     rotation of each front-rear coupling (front minus rear); ``reactions_n``:
     vertical force at each support; ``tipping_factor``: restoring / overturning
-    gravity moment about the near edge (inf when nothing overhangs), or, when the
-    structure rests on a pier, about the front-most support point (the last pier's far
-    face the structure rests on); ``pier_compression_m``: how far each pier's top
+    gravity moment about the tipping line (inf when nothing overhangs): the front-most
+    wheel / caster contact on the near ledge (the near edge for a robot without contacts),
+    or, when the structure rests on a pier, the front-most support point on it
+    (:func:`structure_fem.structures.tipping_edge`); ``pier_compression_m``: how far each pier's top
     went down (positive: compressed).
     """
 
@@ -156,7 +160,7 @@ class StaticResult:
 
     @property
     def tipping_edge_m(self) -> float:
-        """x of the edge the tipping factor is taken about (0: the near edge)."""
+        """x of the line the tipping factor is taken about (0: the near edge)."""
         return tipping_edge(self.layout)
 
     @property
@@ -182,7 +186,8 @@ def solve(config: Config, robot: RobotProperties, conn: ConnectorSet | None = No
     ``options`` (:class:`SolverOptions`). A failed run is retried with 4x the
     load steps and a 100x looser relative tolerance (very stiff pins leave a
     round-off floor), then without the continuation (the plain gravity ramp)
-    with the given, 4x and 1/4 the load steps: near tipping, where the structure
+    with the given, 4x and 1/4 the load steps, then the continuation from a 3x wider and a 3x
+    narrower start and with a faster relaxation: near tipping, where the structure
     balances on the ledge edge, the adaptive step control stalls on one path and
     not another. A solution with a body turned past 90 degrees (upside down over
     the edge, not a state the structure can reach) is not accepted. If all fail,
@@ -198,13 +203,23 @@ def solve(config: Config, robot: RobotProperties, conn: ConnectorSet | None = No
     attempts = (options, replace(options, load_steps=4 * n, relative_tolerance=loose),
                 plain, replace(plain, load_steps=4 * n, relative_tolerance=loose),
                 replace(plain, load_steps=max(2, n // 4), relative_tolerance=loose))
+    if options.smoothing_start > 0:  # the continuation along other paths: wider / narrower, faster relaxing
+        attempts += (replace(options, smoothing_start=3.0 * options.smoothing_start, load_steps=4 * n,
+                             relative_tolerance=loose),
+                     replace(options, smoothing_start=options.smoothing_start / 3.0, load_steps=4 * n,
+                             relative_tolerance=loose),
+                     replace(options, smoothing_power=max(1, options.smoothing_power // 2), load_steps=8 * n,
+                             relative_tolerance=loose))
     last: SolverFailure | None = None
     for opt in attempts:
         try:
             return _solve_once(config, robot, conn, opt)
         except SolverFailure as exc:
             last = exc
-    tried = ", ".join(f"{o.load_steps}{'' if o.smoothing_start else ' plain'}" for o in attempts[1:])
+    tried = ", ".join(f"{o.load_steps}{'' if o.smoothing_start else ' plain'}"
+                      + (f" (smoothing {o.smoothing_start:g}x/{o.smoothing_power})"
+                         if o.smoothing_start and (o.smoothing_start, o.smoothing_power) !=
+                         (options.smoothing_start, options.smoothing_power) else "") for o in attempts[1:])
     raise SolverFailure(f"{last} (also retried with {tried} load steps)")
 
 
@@ -313,6 +328,16 @@ def translational_bands(joint, count: int, force_scale_n: float) -> tuple[tuple[
     return tuple(out)
 
 
+def dead_band_parameters(body_mass_kg: float, length_m: float, k: float, h: float) -> tuple[float, float]:
+    """``(e, k_reg)`` of a pitch dead band of half-width ``h`` and stiffness ``k`` next to a body
+    of ``body_mass_kg``: a joint carrying ``m g L`` sits inside the smooth band edge by about
+    ``e^2 k / (4 M)``, kept below 1 % of the play; the weak linear spring ``k_reg`` gives an
+    unloaded joint inside its play a defined angle, carrying at most 1 % of ``m g L`` at the band
+    edge (used by :mod:`structure_fem.dynamics` too)."""
+    m0 = body_mass_kg * GRAVITY * length_m
+    return min(SMOOTHING * h, math.sqrt(0.04 * m0 * h / k)), min(1e-3 * k, 0.01 * m0 / h)
+
+
 def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, options: SolverOptions) -> StaticResult:
     import exudyn as exu
     from exudyn.itemInterface import (
@@ -370,11 +395,7 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
         if h > 0:
             # A joint carrying M sits inside the smooth band edge by about e^2 k / (4 M): keep that
             # below 1 % of the play for moments of one body's weight m g L or more.
-            m0 = lay.bodies[c.a].mass_kg * GRAVITY * lay.length_m
-            e = min(SMOOTHING * h, math.sqrt(0.04 * m0 * h / kr))
-            # An unloaded joint inside its play has no defined angle (zero stiffness): a weak
-            # linear spring fixes it, carrying at most 1 % of m g L at the band edge.
-            k_reg = min(1e-3 * kr, 0.01 * m0 / h)
+            e, k_reg = dead_band_parameters(lay.bodies[c.a].mass_kg, lay.length_m, kr, h)
 
             uf = _dead_band_uf(mbs, h, e, k_reg, keep, options.smoothing_start * h,
                                options.smoothing_power)
@@ -454,13 +475,6 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
     if turn > MAX_BODY_ROTATION_RAD:
         raise SolverFailure(f"static solve for {what} reached a spurious state (a body turned {turn:.3g} rad)")
     return _result(config, lay, q, robot, kc)
-
-
-def tipping_edge(lay: Layout) -> float:
-    """The edge the tipping factor is taken about: the near edge (x = 0), or, when the structure
-    rests on a pier, the front-most pier contact (the far face of the last pier it is on)."""
-    on = [sp.point_m[0] for sp in lay.supports if sp.pier is not None]
-    return max(on) if on else 0.0
 
 
 def _result(config: Config, lay: Layout, q: np.ndarray, robot: RobotProperties, kc: float) -> StaticResult:

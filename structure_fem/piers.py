@@ -22,19 +22,21 @@ until it reaches the far ledge; a second pier may follow in the same way.
   section; it does not matter: one body (about 1e8 N/m for the CuBot) is some 200x stiffer
   than one key;
 * ``H``: the robot's height (``height_m``), the length in compression;
-* ``k_key``: the top twist-lock's axial stiffness (``top_twist`` connector,
-  ``axial_n_per_m``: its four key arms' vertical bending, hand formula in the record), one per
+* ``k_key``: the top twist-lock's vertical stiffness (``top_twist`` connector, ``k_z``: its
+  four key arms' vertical bending, hand formula in the record), one per
   interface between two stacked robots, ``k - 1`` of them. In compression the upper robot
   stands on the cover (the pull-out play is tension-only), so the key is in series with the body.
 
 The ledge-like contact between the structure and the pier top (``model.CONTACT_N_PER_M`` per
-corner, one-sided: a pier only pushes) is in series with ``K_k`` in the model.
+wheel / caster contact, one-sided: a pier only pushes) is in series with ``K_k`` in the model.
 
 **Model**: the existing exudyn planar model (:func:`structure_fem.model.solve`) with
 ``Config.piers``: each pier top is a node on a spring ``K_k`` to the floor, the structure rests
-on it through one-sided contacts under the bottom corners that are over it (see
-:mod:`structure_fem.model`). The tipping factor is taken about the last support: the far face
-of the front-most pier the structure rests on.
+on it through one-sided contacts at the robots' wheels and casters that are over it (bottom
+corners for a robot without contacts; see :mod:`structure_fem.model` and
+:mod:`structure_fem.contacts`). The tipping factor is taken about the last support: the
+front-most contact on the front-most pier the structure rests on (its far face for a flat
+underside), 12 mm short of the far face for the CuBot's front caster.
 
 **Thresholds per span** (:func:`derive`). For ``k = 1..4``, with the first span at the
 structure's own cantilever threshold: the widest overhang ``o`` beyond the pier's far face
@@ -48,7 +50,9 @@ the first overhang's limit (near face at ``s + 1 + o1``) and the widest overhang
 last support's far face >= ratio * rows beyond it + margin``. Rigid bodies of a uniform
 structure give a tipping factor of ``(R_b / o)^2`` about the far face, so ``ratio = 1``
 (as for the near ledge) and the margin is the smallest that keeps every overhang up to the
-derived ones standing, rigidly and in the solved states (:func:`derive` says which set it).
+derived ones standing, rigidly about the front-most contact at or behind the far face
+(:func:`support_edge`: a setback ``s`` lowers the factor to ``(R_b^2 a / 2 - s R_b) / (o^2 a / 2
++ s o)``) and in the solved states (:func:`derive` says which set it).
 
 **Check**: every state of each crossing with the rule's counts (the first span's cantilever
 steps with the structure's own rule, the front row on each pier, each overhang step beyond it,
@@ -72,7 +76,7 @@ from .connectors import ConnectorSet
 from .errors import InputError, SolverFailure
 from .limits import MAX_ARCH_HIGH, PierRule, StructureLevel
 from .model import CONTACT_N_PER_M, Config, StaticResult, solve
-from .structures import Pier, Structure, layout, tipping_factor
+from .structures import Pier, Structure, layout, rigid_tipping, tipping_factor
 from .study import MAX_EXTRA_ROWS, NonConvergence, StudyInputs
 
 #: The tallest pier the rule covers: the thesis stacks robots at most 4 high (its arches,
@@ -117,7 +121,7 @@ def pier_stiffness(robot: RobotProperties, conn: ConnectorSet, robots: int) -> P
         return PierStiffness(1, kb, None, kb)
     if conn.top_twist is None:
         raise InputError(f"robot {robot.name!r} has no top_twist connector to stack {robots} robots into a pier")
-    kk = conn.top_twist.axial_n_per_m
+    kk = conn.top_twist.k_z  # vertical: the key arms (the horizontal stiffness is the key stem's)
     return PierStiffness(robots, kb, kk, 1.0 / (robots / kb + (robots - 1) / kk))
 
 
@@ -173,10 +177,8 @@ class PierSolution:
 
 def _rigid_tipping(s: Structure, inp: StudyInputs, cfg: Config) -> float:
     """Tipping factor of the undeformed layout, about the edge the solved one would use."""
-    from .model import tipping_edge
-
     lay = layout(s, inp.robot, inp.connectors, cfg.rows, cfg.rows_over, cfg.void_widths, cfg.phase, cfg.piers)
-    return tipping_factor(lay.bodies, [b.com_m[0] for b in lay.bodies], tipping_edge(lay))
+    return rigid_tipping(lay)
 
 
 def solve_piers(inp: StudyInputs, void_widths: float, at_widths: tuple[float, ...], robots: int,
@@ -434,6 +436,17 @@ def _crossing_states(sv: _Solver, piers: tuple[Pier, ...], overhangs: tuple[int,
     return tuple(out)
 
 
+def support_edge(lay, face_m: float) -> float:
+    """The line a structure tips about when it rests on a support whose far face is at ``face_m``:
+    the front-most ground contact of a layer-0 body at or behind that face (the face itself for
+    a robot without contacts: a flat underside tips about the face)."""
+    g = lay.ground
+    if g is None or g.kind != "contacts":
+        return face_m
+    xs = [b.x_m + cx for b in lay.bodies if b.layer == 0 for cx, _ in g.points if b.x_m + cx <= face_m + 1e-9]
+    return max(xs) if xs else face_m
+
+
 def _rigid_margin(sv: _Solver, overhangs: list[int], ratio: float) -> int:
     """Smallest margin with which every overhang ``o`` in ``overhangs`` stands rigidly about the
     last support's far face when the rows behind it are ``ratio * o + margin`` (whatever the
@@ -445,7 +458,8 @@ def _rigid_margin(sv: _Solver, overhangs: list[int], ratio: float) -> int:
             rb = max(1, math.ceil(ratio * o - 1e-9) + m)
             n = rb + o
             lay = layout(s, sv.inp.robot, sv.inp.connectors, n, n - 1, n)  # one row on the ledge
-            edge = lay.bodies[lay.front_body].x_m + lay.length_m / 2 - o * lay.pitch_m
+            face = lay.bodies[lay.front_body].x_m + lay.length_m / 2 - o * lay.pitch_m
+            edge = support_edge(lay, face)
             if tipping_factor(lay.bodies, [b.com_m[0] for b in lay.bodies], edge) <= sv.need:
                 ok = False
                 break
@@ -571,8 +585,8 @@ def _notes(study: PierStudy, crossings: list[PierCrossing], margin: int, source:
         f"{study.first_span.ground_margin}); pier near face at {span}, far face at {span + PIER_WIDTH_WIDTHS}. "
         f"Pier stiffness 1/K = k H/(E A) + (k-1)/k_key: body E A/H = {rb:.4g} N/m (E = youngs_modulus_pa, A = "
         f"fill x L x W with fill = mass/(density L W H), H = height_m of the robot record), key k_key = "
-        + (f"{key.axial_n_per_m:.4g} N/m (top_twist axial_n_per_m: {key.provenance or 'record'})" if key else "none")
-        + f", in series with the contacts ({CONTACT_N_PER_M:.3g} N/m per corner). Per pier height: {per}. "
+        + (f"{key.k_z:.4g} N/m (top_twist vertical k_z: {key.provenance or 'record'})" if key else "none")
+        + f", in series with the contacts ({CONTACT_N_PER_M:.3g} N/m per wheel / caster contact). Per pier height: {per}. "
         f"Overhang = widest rows past the pier's far face with the fewest rows behind that stand and the tip within "
         f"the clearance; the second pier (same height) stands at the first overhang's limit. Counting rule beyond "
         f"the last support: rows behind its far face >= 1 x rows beyond + {margin} (margin from {source}); at "

@@ -68,6 +68,11 @@ class RunOptions:
     max_width: int = 30
     #: Derive the pier (multi-span) rule into the limits (``auto``) or not (``none``).
     piers: str = "auto"
+    #: Threshold criterion static tip + launch-transient overshoot <= clearance
+    #: (:mod:`structure_fem.dynamics`; exudyn time integration at the threshold, 1-120 s per structure).
+    dynamic: bool = False
+    #: First-mode damping ratio of the launch transients (an assumption: dynamics.DEFAULT_DAMPING_RATIO).
+    damping_ratio: float = 0.02
 
     def __post_init__(self) -> None:
         if self.connectors not in CONNECTOR_SOURCES:
@@ -99,7 +104,7 @@ def make_inputs(opts: RunOptions, props: RobotPropertiesFile | None = None,
             raise InputError(f"robot {robot.name!r} has no exposed caster height for --caster")
     inp = StudyInputs.for_robot(robot, clearance, opts.stiffness_scale, opts.backlash_scale, opts.mass_scale,
                                 required_tipping=opts.required_tipping, flexible=opts.flexible,
-                                max_width=opts.max_width)
+                                max_width=opts.max_width, dynamic=opts.dynamic, damping_ratio=opts.damping_ratio)
     if cal is None:
         cal = calibrate(props, opts.calibration_backlash)
     # The calibration scales the record's hand estimates (it says how far off they were).

@@ -34,6 +34,7 @@ import numpy as np
 from cubot_cad.properties import RobotProperties
 
 from .connectors import ConnectorSet, Joint
+from .contacts import GroundSupport, ground_support
 from .errors import InputError
 from .limits import KINDS, MAX_ARCH_HIGH, MAX_ARCH_WIDE, taper_half_level, tapered_arch_robots
 
@@ -245,6 +246,9 @@ class Layout:
     void_m: float
     #: Intermediate supports (:class:`Pier`), in order from the near edge.
     piers: tuple[Pier, ...] = ()
+    #: Where the robots touch the ground (:class:`~structure_fem.contacts.GroundSupport`; None:
+    #: body corners, as a layout built before contacts existed).
+    ground: GroundSupport | None = None
 
     def pier_range_m(self, i: int) -> tuple[float, float]:
         return self.piers[i].x_range_m(self.pitch_m, self.length_m)
@@ -259,12 +263,17 @@ def layout(structure: Structure, robot: RobotProperties, conn: ConnectorSet, row
     ``phase="cantilever"``: only the near ledge (x <= 0) supports the structure
     (the front has not reached the far ledge; ``rows_over <= void_widths``);
     ``"bridged"``: bodies whose centre is beyond the far edge rest on it too.
-    Supports sit under the two bottom corners of every body whose centre is
-    over a ledge, at the corners that are over that ledge.
+    Supports sit where the robots touch the ground (:func:`structure_fem.contacts.ground_support`):
+    at the wheel and caster contacts of layer-0 bodies that are over a ledge, at their depth
+    below the underside (a contact exactly at the edge is leaving it as the structure advances,
+    and does not count: the staggered line's wheels sit exactly at the edge at whole rows); for a robot without contacts (flat underside, e.g. the test platform) under the
+    two bottom corners of every body whose centre is over a ledge, at the corners that are over
+    that ledge.
 
-    ``piers`` (:class:`Pier`, uniform structures only): a layer-0 body whose underside overlaps
-    a pier's top rests on it at both ends of the overlap (both corners for a body right over a
-    one-robot-wide pier; a body that only touches the pier's face at a corner does not rest on it).
+    ``piers`` (:class:`Pier`, uniform structures only): a layer-0 body rests on a pier's top at
+    each of its contacts over the top (a contact exactly at a face does not count, as at a ledge); without contacts, at both ends of the
+    overlap of its underside with the top (both corners for a body right over a one-robot-wide
+    pier; a body that only touches the pier's face at a corner does not rest on it).
 
     A tapering structure (``structure.tapered``) is placed by :func:`tapered_layout`.
     """
@@ -325,23 +334,35 @@ def layout(structure: Structure, robot: RobotProperties, conn: ConnectorSet, row
 
     piers = tuple(piers)
     check_piers(piers, void_widths, pitch, L)
-    supports = _ledge_supports(bodies, L, void, phase) + _pier_supports(bodies, L, pitch, piers)
+    ground = ground_support(robot)
+    supports = (_ledge_supports(bodies, L, void, phase, ground)
+                + _pier_supports(bodies, L, pitch, piers, ground))
     if not any(s.ledge == "near" for s in supports):
         raise InputError(f"{structure.name}: no row of the {rows}-row structure rests on the near ledge "
                          f"with {rows_over} rows over the void")
     front = index[(0, 0, 0)]
     rear = index[(0, 0, rows - 1)]
-    return Layout(tuple(bodies), tuple(couplings), tuple(supports), front, rear, L, pitch, void, piers)
+    return Layout(tuple(bodies), tuple(couplings), tuple(supports), front, rear, L, pitch, void, piers, ground)
 
 
-def _pier_supports(bodies: list[Body], L: float, pitch: float, piers: tuple[Pier, ...]) -> list[Support]:
-    """Supports at both ends of the overlap of a layer-0 body's underside with a pier's top."""
+def _pier_supports(bodies: list[Body], L: float, pitch: float, piers: tuple[Pier, ...],
+                   ground: GroundSupport | None = None) -> list[Support]:
+    """Supports of layer-0 bodies on the pier tops: at the contacts strictly over a top,
+    or, for a flat underside (``ground`` is None or corners), at both ends of the overlap of the
+    underside with the top."""
     out: list[Support] = []
     tol = 1e-9
+    contacts = ground is not None and ground.kind == "contacts"
     for k, p in enumerate(piers):
         x0, x1 = p.x_range_m(pitch, L)
         for i, bd in enumerate(bodies):
             if bd.layer != 0:
+                continue
+            if contacts:
+                for cx, cz in ground.points:
+                    x = bd.x_m + cx
+                    if x0 + tol < x < x1 - tol:
+                        out.append(Support(i, (x, cz), "pier", k))
                 continue
             a, b = max(bd.x_m - L / 2, x0), min(bd.x_m + L / 2, x1)
             if b - a > tol:
@@ -349,10 +370,24 @@ def _pier_supports(bodies: list[Body], L: float, pitch: float, piers: tuple[Pier
     return out
 
 
-def _ledge_supports(bodies: list[Body], L: float, void: float, phase: str) -> list[Support]:
-    """Supports under the bottom corners (over a ledge) of layer-0 bodies whose centre is over it."""
+def _ledge_supports(bodies: list[Body], L: float, void: float, phase: str,
+                    ground: GroundSupport | None = None) -> list[Support]:
+    """Ledge supports of layer-0 bodies: at their contacts strictly over a ledge (one exactly at
+    the edge is leaving it), or, for a flat underside (``ground`` is None
+    or corners), under the bottom corners (over a ledge) of bodies whose centre is over it."""
     supports: list[Support] = []
     tol = 1e-9
+    if ground is not None and ground.kind == "contacts":
+        for i, bd in enumerate(bodies):
+            if bd.layer != 0:
+                continue
+            for cx, cz in ground.points:
+                x = bd.x_m + cx
+                if x < -tol:
+                    supports.append(Support(i, (x, cz), "near"))
+                elif phase == "bridged" and x > void + tol:
+                    supports.append(Support(i, (x, cz), "far"))
+        return supports
     for i, bd in enumerate(bodies):
         if bd.layer != 0:
             continue
@@ -445,15 +480,36 @@ def tapered_layout(structure: Structure, robot: RobotProperties, conn: Connector
             couplings.append(Coupling(a, up, (bodies[a].x_m, (layer + 1) * H), conn.top_twist, 2 * half[i],
                                       "top_twist"))
 
-    supports = _ledge_supports(bodies, L, void, phase)
+    ground = ground_support(robot)
+    supports = _ledge_supports(bodies, L, void, phase, ground)
     if not any(s.ledge == "near" for s in supports):  # pragma: no cover - rows - g >= k B >= 1 rests
         raise InputError(f"{structure.name}: no row rests on the near ledge")
     return Layout(tuple(bodies), tuple(couplings), tuple(supports), index[(0, g - 1)], index[(0, g - rows)],
-                  L, pitch, void)
+                  L, pitch, void, ground=ground)
+
+
+def tipping_edge(lay: Layout) -> float:
+    """The line the structure tips about: its front-most support that is not on the far ledge,
+    i.e. the front-most wheel / caster contact on the near ledge (the body corner at the edge,
+    x = 0, for a robot without contacts), or, when the structure rests on a pier, the front-most
+    contact on the last pier it is on (without contacts: that pier's far face)."""
+    on_pier = [sp.point_m[0] for sp in lay.supports if sp.pier is not None]
+    if on_pier:
+        return max(on_pier)
+    if lay.ground is None or lay.ground.kind != "contacts":
+        return 0.0  # a flat underside tips about the ledge edge
+    on = [sp.point_m[0] for sp in lay.supports if sp.ledge == "near"]
+    return max(on) if on else 0.0
+
+
+def rigid_tipping(lay: Layout) -> float:
+    """The tipping factor of the undeformed layout about :func:`tipping_edge`."""
+    return tipping_factor(lay.bodies, [b.com_m[0] for b in lay.bodies], tipping_edge(lay))
 
 
 def tipping_factor(bodies: tuple[Body, ...], com_x: np.ndarray, edge_x: float = 0.0) -> float:
-    """Restoring over overturning gravity moment about the near edge ``edge_x`` (>1: stands).
+    """Restoring over overturning gravity moment about the tipping line ``edge_x`` (>1: stands;
+    :func:`tipping_edge` says where it is: the front-most near-ledge contact).
 
     Bodies with their centre of mass behind the edge restore, those beyond it
     overturn. With nothing beyond the edge the factor is infinite, returned as

@@ -29,10 +29,11 @@ from dataclasses import dataclass, field, replace
 from cubot_cad.properties import RobotProperties
 
 from .connectors import ConnectorSet
+from .contacts import ground_support
 from .errors import InputError, SolverFailure
 from .limits import StructureLevel, StructureLimits
 from .model import Config, StaticResult, solve
-from .structures import Structure, layout, tipping_factor
+from .structures import Structure, layout, rigid_tipping
 
 MAX_WIDTH = 30
 CLEARANCE_CHOICES = ("wheel", "caster")
@@ -48,6 +49,10 @@ class StudyInputs:
     required_tipping: float = 1.0
     flexible: bool = False
     max_width: int = MAX_WIDTH
+    #: Threshold criterion static tip + dynamic overshoot <= clearance (structure_fem.dynamics).
+    dynamic: bool = False
+    #: First-mode damping ratio of the launch transients (structure_fem.dynamics.DEFAULT_DAMPING_RATIO).
+    damping_ratio: float = 0.02
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.clearance_m) and self.clearance_m > 0):
@@ -56,6 +61,8 @@ class StudyInputs:
             raise InputError(f"required tipping factor must be >= 1, got {self.required_tipping}")
         if not (isinstance(self.max_width, int) and 1 <= self.max_width <= 100):
             raise InputError(f"max width must be an integer in 1..100, got {self.max_width!r}")
+        if not (math.isfinite(self.damping_ratio) and 0 <= self.damping_ratio < 1):
+            raise InputError(f"damping ratio must be in [0, 1), got {self.damping_ratio!r}")
 
     @classmethod
     def for_robot(cls, robot: RobotProperties, clearance_mm: float | None = None,
@@ -82,6 +89,8 @@ class StudyInputs:
         couplings; :meth:`input_provenance` says where each connector's values come from."""
         out = {"mass_kg": self.robot.mass_kg, "length_m": self.robot.length_m, "height_m": self.robot.height_m,
                "clearance_m": self.clearance_m, "required_tipping": self.required_tipping}
+        g = ground_support(self.robot)
+        out["front_contact_setback_m"] = g.setback_m(self.robot.length_m)
         for name, j in self._joints():
             out[f"{name}_nm_per_rad"] = j.rotational_nm_per_rad
             out[f"{name}_axial_n_per_m"] = j.axial_n_per_m
@@ -100,7 +109,9 @@ class StudyInputs:
         """Per connector: where its stiffness comes from (``hand formula: ...``, ``fe: ...``,
         ``measured: ...``) and that its play is the CAD's clearances per feature; the robot's
         mass properties from the record's source."""
-        out = {"robot": self.robot.source}
+        g = ground_support(self.robot)
+        out = {"robot": self.robot.source,
+               "ground_contacts": f"{g.kind} (ledge and pier supports, tipping line): {g.source}"}
         for name, j in self._joints():
             out[name] = j.provenance or "hand formula (legacy record)"
             out[f"{name}_play"] = ("CAD clearances per feature (robot_properties.json play)"
@@ -125,8 +136,9 @@ def candidate_structures(conn: ConnectorSet, narrow: bool = False) -> list[Struc
 
 
 def _rigid_tipping(s: Structure, inp: StudyInputs, rows: int, w: int) -> float:
-    lay = layout(s, inp.robot, inp.connectors, rows, w, w)
-    return tipping_factor(lay.bodies, [b.com_m[0] for b in lay.bodies])
+    """Tipping factor of the undeformed ``rows``-row layout about its tipping line (the front-most
+    near-ledge contact, :func:`structure_fem.structures.tipping_edge`)."""
+    return rigid_tipping(layout(s, inp.robot, inp.connectors, rows, w, w))
 
 
 @dataclass(frozen=True)
@@ -206,6 +218,10 @@ class Curve:
     threshold: int = 0
     #: Solves that did not converge (the widths among them count as failing: not in ``widths``).
     failures: list[NonConvergence] = field(default_factory=list)
+    #: The static threshold (tip <= clearance) when ``threshold`` is the dynamic one (None: static study).
+    static_threshold: int | None = None
+    #: Dynamic allowance (mm, structure_fem.dynamics.dynamic_allowance_m) per width where it was computed.
+    allowance_mm: dict[int, float] = field(default_factory=dict)
 
     def index(self, w: int, inp: StudyInputs | None = None) -> int:
         """Index of width ``w``, solving it first (minimal rows, longest cantilever) if missing;
@@ -278,7 +294,36 @@ def structure_curve(s: Structure, inp: StudyInputs, extra: int = 1, tick: Callab
                                                  "for the plots)", "left out of the plots", str(exc)))
                 break
     c.threshold = lo
+    if inp.dynamic:
+        c.static_threshold = lo
+        c.threshold = dynamic_threshold(c, inp)
     return c
+
+
+def dynamic_threshold(c: Curve, inp: StudyInputs) -> int:
+    """Step down from the static threshold ``c.threshold`` to the widest width whose static tip +
+    dynamic allowance (the larger overshoot of the support-loss and docking transients,
+    :func:`structure_fem.dynamics.dynamic_allowance_m`) stays within the clearance. A transient
+    that does not converge counts as failing (one ``NonConvergence``), as a static solve does."""
+    from .dynamics import dynamic_allowance_m
+
+    clear = inp.clearance_m * 1e3
+    w = c.threshold
+    while w >= 1:
+        i = c.index(w, inp)
+        try:
+            res = solve(Config(c.structure, c.rows[i], w, w), inp.robot, inp.connectors, inp.flexible)
+            a = 1e3 * dynamic_allowance_m(c.structure, w, inp.robot, inp.damping_ratio, connectors=inp.connectors,
+                                          flexible=inp.flexible, static=res)
+        except SolverFailure as exc:
+            c.failures.append(NonConvergence(c.structure.name, w, "launch transient", "counted as failing", str(exc)))
+            w -= 1
+            continue
+        c.allowance_mm[w] = a
+        if c.tip_mm[i] + a <= clear:
+            return w
+        w -= 1
+    return 0
 
 
 @dataclass
@@ -353,7 +398,8 @@ def limits_from(d: Derivation, source: str = "derived") -> StructureLimits:
             name=s.name, kind=s.kind, lines=s.lines, layers=s.layers, min_span_widths=lo,
             max_span_widths=hi, ground_ratio=1.0, ground_margin=max(margins),
             min_robots=tuple(c.robots[i] for i in idx),
-            max_deflection_mm=round(c.tip_mm[idx[-1]], 3), min_tipping_factor=round(min(c.tipping[i] for i in idx), 4)))
+            max_deflection_mm=round(c.tip_mm[idx[-1]], 3), min_tipping_factor=round(min(c.tipping[i] for i in idx), 4),
+            dynamic_allowance_mm=(round(c.allowance_mm[hi], 3) if hi in c.allowance_mm else None)))
     th = d.thresholds()
     def narrow(s: Structure) -> bool:
         return s.kind == "arch" and s.lines < 2 * s.layers
@@ -543,7 +589,7 @@ def tapered_point(s: Structure, w: int, inp: StudyInputs) -> dict:
     need = inp.required_tipping * (1 + 1e-6)
     out: dict = {"tip_mm": None, "tipping_factor": None, "bridged_max_mm": None, "note": "", "failures": []}
     lay = layout(s, inp.robot, inp.connectors, before.rows, w, w)
-    rigid = tipping_factor(lay.bodies, [b.com_m[0] for b in lay.bodies])
+    rigid = rigid_tipping(lay)
     out["tipping_factor"] = rigid
     if rigid <= need:
         out["note"] = f"tips before landing (rigid tipping factor {rigid:.3g})"

@@ -5,10 +5,22 @@ from __future__ import annotations
 
 import pytest
 
-from cubot_cad.properties import ConnectorProperties, RobotProperties, default_properties
+from cubot_cad.properties import (
+    ConnectorProperties,
+    GroundContact,
+    RobotProperties,
+    default_properties,
+)
+
+#: The CuBot's contacts (cubot_cad.cubot defaults: casters 38 mm fore and aft of the wheels' axle at
+#: the centre, all 15 mm below the underside), for test robots that stand on wheels.
+CUBOT_LIKE_CONTACTS = ((-0.038, "caster"), (0.0, "wheel"), (0.038, "caster"))
 
 
-def make_robot(mass=0.3, k=200.0, k_ax=2e5, backlash=0.0, com_x=0.0, name="testbot") -> RobotProperties:
+def make_robot(mass=0.3, k=200.0, k_ax=2e5, backlash=0.0, com_x=0.0, name="testbot",
+               contacts=None, contact_z=-0.015) -> RobotProperties:
+    """A test robot; ``contacts``: ``((x_m, feature), ...)`` of its ground contacts (None: none in
+    the record, so it rests on its body corners)."""
     L, W, H = 0.1, 0.1, 0.085
     iyy = mass * (L ** 2 + H ** 2) / 12
     ixx = mass * (W ** 2 + H ** 2) / 12
@@ -18,8 +30,10 @@ def make_robot(mass=0.3, k=200.0, k_ax=2e5, backlash=0.0, com_x=0.0, name="testb
         ConnectorProperties("side_rail", k, k_ax, backlash, 0.0, 0.01),
         ConnectorProperties("top_twist", k, k_ax, backlash, 0.0, H),
     )
+    gc = None if contacts is None else tuple(GroundContact(f, x, contact_z) for x, f in contacts)
     return RobotProperties(name, L, W, H, mass, (com_x, 0.0, 0.04), (ixx, iyy, izz, 0, 0, 0),
-                           0.015, 0.0033, "ABS", 1040.0, 2.2e9, conns, source="test")
+                           0.015, 0.0033, "ABS", 1040.0, 2.2e9, conns, source="test",
+                           ground_contacts=gc, ground_contacts_source=None if gc is None else "test: chosen here")
 
 
 @pytest.fixture(name="make_robot", scope="session")

@@ -53,7 +53,7 @@ def base(inp, first_span):
 
 
 def test_pier_stiffness_is_the_stack_in_series_and_more_robots_are_softer(inp):
-    r, key = inp.robot, inp.connectors.top_twist.axial_n_per_m
+    r, key = inp.robot, inp.connectors.top_twist.k_z  # vertical: the key arms (horizontal: its stem)
     fill = r.mass_kg / (r.density_kg_m3 * r.length_m * r.width_m * r.height_m)
     kb = r.youngs_modulus_pa * fill * r.length_m * r.width_m / r.height_m
     assert body_stiffness(r) == pytest.approx(kb, rel=1e-12)
@@ -72,11 +72,12 @@ def test_supports_sit_only_under_bodies_over_the_pier(inp):
     p = robot_pier(inp.robot, inp.connectors, 1, 3.0)
     lay = layout(LINE, inp.robot, inp.connectors, 8, 7, 7, piers=(p,))
     on = [(lay.bodies[s.body].row, s.point_m[0]) for s in lay.supports if s.pier == 0]
-    # the body over [3, 4] rests at both its corners; its neighbours only touch the pier's faces
-    assert [row for row, _ in on] == [3, 3] and [x for _, x in on] == pytest.approx([0.3, 0.4])
+    # the body over [3, 4] rests on its wheels and casters (the CuBot's: 12, 50 and 88 mm behind its front
+    # face, structure_fem.contacts); its neighbours only touch the pier's faces with their bodies
+    assert [row for row, _ in on] == [3, 3, 3] and [x for _, x in on] == pytest.approx([0.312, 0.35, 0.388])
     half = layout(LINE, inp.robot, inp.connectors, 8, 7, 7, piers=(dataclasses.replace(p, at_widths=2.5),))
     assert sorted(lay_row for lay_row in (half.bodies[s.body].row for s in half.supports if s.pier == 0)) == \
-        [3, 3, 4, 4]  # straddling two bodies: each rests on its half
+        [3, 4]  # straddling two bodies: each rests on the contact strictly over its half (the others at the faces)
     for bad, word in (((dataclasses.replace(p, at_widths=6.5),), "beyond"),
                       ((p, dataclasses.replace(p, at_widths=3.5)), "overlaps")):
         with pytest.raises(InputError, match=word):
@@ -134,8 +135,10 @@ def test_the_counting_rule_is_the_smallest_that_stands(inp, base):
 def test_piers_only_push(inp):
     """A pier under a part of the line that the overhang lifts carries nothing there (the line
     leaves its top); the same configuration with two-sided supports would pull it down."""
-    piers = (robot_pier(inp.robot, inp.connectors, 1, 0.5), robot_pier(inp.robot, inp.connectors, 1, 3.0))
-    cfg = Config(LINE, 8, 7, 7, piers=piers)
+    # (with the supports at the wheels and casters: piers at 0.5 and 2.5, 6 rows over; the corner
+    # supports used 0.5 and 3.0 with 7 over, where the contacts' pier 1 is no longer pulled down)
+    piers = (robot_pier(inp.robot, inp.connectors, 1, 0.5), robot_pier(inp.robot, inp.connectors, 1, 2.5))
+    cfg = Config(LINE, 7, 6, 6, piers=piers)
     one_sided = solve(cfg, inp.robot, inp.connectors)
     two_sided = solve(dataclasses.replace(cfg, clamped=True), inp.robot, inp.connectors)
     on_a = [i for i, s in enumerate(one_sided.layout.supports) if s.pier == 0]
@@ -228,7 +231,8 @@ def test_fem_piers_reports_one_configuration(cli, tmp_path):
     assert p["robots"] == 2 and p["load_n"] > 0 and p["compression_mm"] == pytest.approx(
         1e3 * p["load_n"] / p["stiffness_n_per_m"], rel=1e-3)
     assert {r["support"] for r in out["support_reactions"]} == {"near", "pier 1"}
-    assert out["tipping_edge_m"] == pytest.approx(0.4)  # about the pier's far face
+    # about the front caster of the robot on the pier, 12 mm short of the pier's far face (0.4 m)
+    assert out["tipping_edge_m"] == pytest.approx(0.4 - 0.012)
     assert png.stat().st_size > 0
     two = cli("fem", "piers", "--void-width", "9", "--piers", "3,6", "--pier-robots", "1", "--rows", "12")
     assert two.code == 0, two.err

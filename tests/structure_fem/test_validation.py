@@ -34,8 +34,9 @@ CHAIN_K = 2.0e4  # N m/rad: stiff enough that n = 15 stays in the small-angle ra
 CHAIN_KAX = 1.0e8  # N/m: stiff pins (their shear slip is in the closed form)
 
 
+@pytest.mark.parametrize("supports", ["corners", "contacts"])
 @pytest.mark.parametrize("n", range(1, 16))
-def test_rigid_link_chain_matches_closed_form(n, make_robot):
+def test_rigid_link_chain_matches_closed_form(n, supports, make_robot):
     """n rigid links (length a, mass m) cantilevered from a clamped root, a rotational spring k at
     each of the n joints (the root joint included), pins of axial/shear stiffness k_ax.
 
@@ -49,28 +50,76 @@ def test_rigid_link_chain_matches_closed_form(n, make_robot):
     Each pin also slides by its shear V_i / k_ax = m g i / k_ax:
     delta_pin = m g n (n + 1) / (2 k_ax).
 
-    The clamp is the root row held at its bottom corners (x = -a, 0) by springs k_c. It carries
-    the chain's shear V = n m g and moment M = m g a n^2 / 2 at x = 0 and its own weight at
-    -a/2, so F_front = V + m g / 2 + M / a and F_rear = m g / 2 - M / a; it sinks by
-    F_front / k_c at the edge and turns by (F_front - F_rear) / (k_c a), which lowers the tip by
+    The clamp is the root row (x in [-a, 0]) held by springs k_c at its support points x_j: its
+    bottom corners (-a, 0) for a robot without ground contacts, its wheel and caster contacts
+    (-a/2 + c_j, c_j = -38, 0, +38 mm) for one standing on them. It carries the chain's shear
+    V = n m g and moment M = m g a n^2 / 2 (nose down) at x = 0 and its own weight at -a/2. With
+    the root's downward motion u + phi x at x, the reactions k_c (u + phi x_j) balance
 
-        delta_clamp = [F_front + n (F_front - F_rear)] / k_c.
+        k_c (J u + phi S1) = V + m g,    k_c (u S1 + phi S2) = M - m g a / 2
+
+    (J supports, S1 = sum x_j, S2 = sum x_j^2; moments about x = 0), and the root lowers the
+    tip (x = n a) by delta_clamp = u + phi n a. (For the corners: F_front = V + m g / 2 + M / a,
+    F_rear = m g / 2 - M / a, delta_clamp = [F_front + n (F_front - F_rear)] / k_c.)
     """
-    robot = make_robot(k=CHAIN_K, k_ax=CHAIN_KAX)
+    contacts = None if supports == "corners" else ((-0.038, "caster"), (0.0, "wheel"), (0.038, "caster"))
+    robot = make_robot(k=CHAIN_K, k_ax=CHAIN_KAX, contacts=contacts)
     a, m = robot.length_m, robot.mass_kg
     cfg = Config(Structure("line"), rows=n + 1, rows_over=n, void_widths=n, clamped=True)
     res = solve(cfg, robot, options=SolverOptions(contact_n_per_m=1e9))
     kc = 1e9
     s = n * (n + 1) / 2
     mg = m * GRAVITY
-    f_front = n * mg + mg / 2 + mg * n * n / 2
-    f_rear = mg / 2 - mg * n * n / 2
-    expected = (mg * a ** 2 / (2 * CHAIN_K) * s ** 2 + mg * n * (n + 1) / (2 * CHAIN_KAX)
-                + (f_front + n * (f_front - f_rear)) / kc)
+    xs = [-a, 0.0] if contacts is None else [-a / 2 + c for c, _ in contacts]
+    root = [sp.point_m[0] for sp in res.layout.supports if sp.body == res.layout.rear_body]
+    assert sorted(root) == pytest.approx(sorted(xs), abs=1e-12)  # the supports are where the closed form has them
+    big_j, s1, s2 = len(xs), sum(xs), sum(x * x for x in xs)
+    v, mom = n * mg, mg * a * n * n / 2
+    det = big_j * s2 - s1 * s1
+    u = ((v + mg) * s2 - s1 * (mom - mg * a / 2)) / (kc * det)
+    phi = (big_j * (mom - mg * a / 2) - s1 * (v + mg)) / (kc * det)
+    expected = (mg * a ** 2 / (2 * CHAIN_K) * s ** 2 + mg * n * (n + 1) / (2 * CHAIN_KAX) + u + phi * n * a)
+    if contacts is None:  # the general form reduces to the corner one
+        f_front = n * mg + mg / 2 + mg * n * n / 2
+        f_rear = mg / 2 - mg * n * n / 2
+        assert u + phi * n * a == pytest.approx((f_front + n * (f_front - f_rear)) / kc, rel=1e-9)
     assert res.tip_deflection_m == pytest.approx(expected, rel=0.01)
     # The joint rotations follow M_i / k too (joint list runs front to rear: i = 1..n from the tip).
     rot = -res.joint_rotation_rad[:n]
     assert rot == pytest.approx([m * GRAVITY * a * i * i / 2 / CHAIN_K for i in range(1, n + 1)], rel=0.01)
+
+
+def _clamp_closed_form(xs, n, a, mg, kc):
+    """Tip drop (m) from the clamp's springs alone at support points ``xs`` (see above)."""
+    big_j, s1, s2 = len(xs), sum(xs), sum(x * x for x in xs)
+    v, mom = n * mg, mg * a * n * n / 2
+    det = big_j * s2 - s1 * s1
+    u = ((v + mg) * s2 - s1 * (mom - mg * a / 2)) / (kc * det)
+    phi = (big_j * (mom - mg * a / 2) - s1 * (v + mg)) / (kc * det)
+    return u + phi * n * a
+
+
+@pytest.mark.parametrize("n", [1, 3, 5, 8])
+def test_soft_clamp_tip_follows_its_support_points(n, make_robot):
+    """The same chain on soft clamp springs (1e6 N/m per support), where the root's motion is a
+    large part of the tip: the solved tip matches the closed form at the actual support points,
+    and the contacts (38 mm either side of the centre) give a different tip from the corners
+    (100 mm apart): the test would see supports in the wrong place."""
+    kc = 1e6
+    tips = {}
+    for supports in ("corners", "contacts"):
+        contacts = None if supports == "corners" else ((-0.038, "caster"), (0.0, "wheel"), (0.038, "caster"))
+        robot = make_robot(k=CHAIN_K, k_ax=CHAIN_KAX, contacts=contacts)
+        a, mg = robot.length_m, robot.mass_kg * GRAVITY
+        res = solve(Config(Structure("line"), rows=n + 1, rows_over=n, void_widths=n, clamped=True), robot,
+                    options=SolverOptions(contact_n_per_m=kc))
+        xs = [-a, 0.0] if contacts is None else [-a / 2 + c for c, _ in contacts]
+        s = n * (n + 1) / 2
+        expected = (mg * a ** 2 / (2 * CHAIN_K) * s ** 2 + mg * n * (n + 1) / (2 * CHAIN_KAX)
+                    + _clamp_closed_form(xs, n, a, mg, kc))
+        assert res.tip_deflection_m == pytest.approx(expected, rel=0.01)
+        tips[supports] = res.tip_deflection_m
+    assert tips["contacts"] > 1.05 * tips["corners"]
 
 
 def test_symmetric_bridge_deflects_symmetrically(make_robot):

@@ -59,6 +59,12 @@ def _add_inputs(p: argparse.ArgumentParser) -> None:
     g.add_argument("--tipping", type=float, default=1.0, metavar="F",
                    help="required tipping safety factor (> F at the longest cantilever; default 1)")
     g.add_argument("--flexible", action="store_true", help="add the robots' own bending compliance (E of the material)")
+    g.add_argument("--dynamic", action="store_true",
+                   help="threshold = static tip + launch-transient overshoot (a row leaving the ledge, a recruit "
+                        "docking) <= clearance: exudyn time integration at the threshold (adds 1-120 s per structure)")
+    g.add_argument("--damping-ratio", type=float, default=0.02, metavar="Z",
+                   help="first-mode damping ratio of the transients with --dynamic (default 0.02, an assumption: "
+                        "printed ABS/PLA 0.5-2.5 %% plus joint friction)")
     g.add_argument("--max-width", type=int, default=30, metavar="W",
                    help="widest void studied, robot widths (default 30)")
     g.add_argument("--calibration-backlash", type=float, default=None, metavar="RAD",
@@ -79,13 +85,17 @@ def _opts(args):
         check_float(getattr(args, opt[2:].replace("-", "_")), opt, lo, hi, lo_open=lo_open)
     check_float(args.clearance_mm, "--clearance-mm", 0.0, MAX_CLEARANCE_MM,
                 what="a climb clearance above the robots' height is outside the model")
+    if getattr(args, "damping_ratio", None) is not None:
+        check_float(args.damping_ratio, "--damping-ratio", 0.0, 0.99, lo_open=False,
+                    what="a damping ratio of 1 or more is no longer an oscillation")
 
     return RunOptions(properties=args.properties, robot=args.robot, clearance_mm=args.clearance_mm,
                       caster=args.caster, connectors=args.connectors, stiffness_scale=args.stiffness_scale,
                       backlash_scale=args.backlash_scale, mass_scale=args.mass_scale, required_tipping=args.tipping,
                       flexible=args.flexible, calibration_backlash=args.calibration_backlash,
                       max_width=args.max_width, measured=args.measured,
-                      piers=getattr(args, "piers_rule", "auto"))
+                      piers=getattr(args, "piers_rule", "auto"), dynamic=getattr(args, "dynamic", False),
+                      damping_ratio=getattr(args, "damping_ratio", 0.02))
 
 
 def _bar(iterable, desc, total):
@@ -112,7 +122,11 @@ def run_table(args) -> int:
              f"thesis thresholds: line {tt['line']}, two_line {tt['two_line']}, arch {tt['arch']}, "
              f"arch levels {tt['arch_levels']}\n"
              f"calibrated platform bolt: {res['calibration']['bolt_stiffness_nm_per_rad']:.4g} N m/rad at "
-             f"{res['calibration']['bolt_backlash_rad']:g} rad backlash\n"
+             f"{res['calibration']['bolt_backlash_rad']:g} rad backlash ("
+             + ", ".join(f"{r['reading']} reading {r['bolt_stiffness_nm_per_rad']:.4g}"
+                         for r in res["calibration"].get("readings", ()))
+             + "); not used for the CuBot's connectors (they come from FE / the record, "
+             "`fem calibrate` says which)\n"
              + _tapered_line(res.get("thesis_tapering_arches"))
              + _piers_line(res.get("piers"))
              + _margins_lines(res.get("structures", []))
@@ -183,6 +197,23 @@ def run_study(args) -> int:
     return 0
 
 
+def _readings_text(cal: dict) -> str:
+    """Both readings of the platform measurement: fitted bolt, predicted tips, family."""
+    out = [f"platform bolt fitted to {cal['measurement']}; record's estimate "
+           f"{cal['bolt_stiffness_estimate_nm_per_rad']:.4g} N m/rad"]
+    for r in cal["readings"]:
+        primary = " (primary: --connectors calibrated uses it)" if r["reading"] == cal["primary_reading"] else ""
+        out.append(f"reading {r['reading']}{primary}: {r['description']}\n"
+                   f"  bolt {r['bolt_stiffness_nm_per_rad']:.4g} N m/rad at {r['bolt_backlash_rad']:g} rad backlash "
+                   f"(x{r['fitted_over_estimate']:.3g} the estimate); fed back: 5 platforms {r['refit_tip5_mm']:.3f} mm; "
+                   f"predicted tips mm {r['predicted_tip_mm']}\n"
+                   "  family (backlash rad -> stiffness, tips 3/4/5 mm):\n"
+                   + "\n".join(f"    {f['backlash_rad']:.4g} -> {f['stiffness_nm_per_rad']:.4g}: "
+                               f"{f['tip3_mm']:.2f} / {f['tip4_mm']:.2f} / {f['tip5_mm']:.2f}" for f in r["family"]))
+    out.append(f"the two readings' stiffnesses differ x{cal['readings_stiffness_ratio']:.3g}")
+    return "\n".join(out)
+
+
 def run_calibrate(args) -> int:
     from structure_fem.calibration import calibrate
     from structure_fem.runs import load_file
@@ -203,12 +234,7 @@ def run_calibrate(args) -> int:
         measured = "".join(f"\nmeasured {args.robot} {k}: {v['rotational_stiffness_nm_per_rad']:.4g} N m/rad, "
                            f"play {v['backlash_rad'] * 1e3:.3g} mrad ({v['provenance']}); `fem table --measured "
                            f"{args.measured}` uses it" for k, v in cal["measured"].items())
-    human = (f"platform bolt: {cal['bolt_stiffness_nm_per_rad']:.4g} N m/rad at {cal['bolt_backlash_rad']:g} rad "
-             f"backlash (record's estimate {cal['bolt_stiffness_estimate_nm_per_rad']:g}); predicted tips mm "
-             f"{cal['predicted_tip_mm']}\nfamily (backlash rad -> stiffness, tips 3/4/5 mm):\n"
-             + "\n".join(f"  {f['backlash_rad']:.4g} -> {f['stiffness_nm_per_rad']:.4g}: "
-                         f"{f['tip3_mm']:.2f} / {f['tip4_mm']:.2f} / {f['tip5_mm']:.2f}" for f in cal["family"])
-             + measured)
+    human = (_readings_text(cal) + measured + "\n" + cal["robot_connectors"])
     emit(args, cal, human)
     return 0
 
