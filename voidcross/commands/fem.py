@@ -147,7 +147,8 @@ def _margins_lines(structures: list[dict]) -> str:
             continue
         rg = r.get("range")
         rng = "" if rg is None else f", range {rg['min']}-{rg['max']} over print clearance and modulus"
-        setby = f", set by {r['set_by']} ({100 * r['set_by_share']:.0f} %)" if "set_by" in r else ""
+        share = f" ({100 * r['set_by_share']:.0f} %)" if "set_by_share" in r else ""
+        setby = f", set by {r['set_by']}{share}" if "set_by" in r else ""
         flag = " MARGINAL" if r.get("marginal") else ""
         flag += ", at --max-width: a lower bound" if r.get("capped_by_max_width") else ""
         out.append(f"  {r['structure']}: {r['threshold']} (margin {r['margin_mm']:.2f} mm{flag}{setby}{rng})")
