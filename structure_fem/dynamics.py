@@ -92,13 +92,14 @@ import numpy as np
 
 from cubot_cad.properties import RobotProperties
 
-from .connectors import SMOOTHING, ConnectorSet
+from .connectors import ConnectorSet
 from .errors import InputError, SolverFailure
 from .model import (
     CONTACT_N_PER_M,
     CONTACT_SMOOTHING_M,
     Config,
     StaticResult,
+    dead_band_parameters,
     solve,
     translational_bands,
 )
@@ -293,18 +294,6 @@ def _dead_band_uf(mbs, keep: list, h: float, e: float, k_reg: float, beta: float
 # --------------------------------------------------------------------------- system
 
 
-def _dead_band_parameters(body_mass_kg: float, length_m: float, k: float, h: float) -> tuple[float, float]:
-    """``(e, k_reg)`` of a pitch dead band: ``structure_fem.model.dead_band_parameters`` when the
-    model exposes it, else the same formula as ``model._solve_once``."""
-    from . import model
-
-    f = getattr(model, "dead_band_parameters", None)
-    if f is not None:
-        return f(body_mass_kg, length_m, k, h)
-    m0 = body_mass_kg * GRAVITY * length_m
-    return min(SMOOTHING * h, math.sqrt(0.04 * m0 * h / k)), min(1e-3 * k, 0.01 * m0 / h)
-
-
 @dataclass
 class _Recruit:
     mass_kg: float
@@ -385,7 +374,7 @@ def _build(lay: Layout, supports: tuple[Support, ...], q0: np.ndarray, beta: flo
         kr = c.joint.rotational_nm_per_rad * c.count
         h = c.joint.backlash_rad
         if h > 0:  # the same smoothing and in-band spring as structure_fem.model
-            e, k_reg = _dead_band_parameters(lay.bodies[c.a].mass_kg, lay.length_m, kr, h)
+            e, k_reg = dead_band_parameters(lay.bodies[c.a].mass_kg, lay.length_m, kr, h)
             uf = _dead_band_uf(mbs, keep, h, e, k_reg, beta)
             mbs.AddObject(ObjectConnectorCoordinateSpringDamper(markerNumbers=[ra, rb], stiffness=kr,
                                                                 springForceUserFunction=uf))
