@@ -72,8 +72,8 @@ def cantilever_tip(length_m: float, mass_per_length: float, bending_stiffness: f
 def flexible_line_tip(robot: RobotProperties, joint_nm_per_rad: float, robots_over: int,
                       elements_per_robot: int = 4, joint_length_m: float = 0.002) -> float:
     """Tip deflection (m) of ``robots_over`` robots cantilevered from a clamped edge, every robot
-    a flexible beam (ANCF cable elements, ``E`` of the material, hollow box section ``I`` scaled by
-    the fill fraction, as in ``model._flexible``) and every coupling a short element of length
+    a flexible beam (ANCF cable elements, ``E I`` of :func:`structure_fem.bodies.body_bending`, the
+    CAD's section, as the lumped model's) and every coupling a short element of length
     ``joint_length_m`` whose bending stiffness ``k * l`` makes it a rotational spring ``k``.
 
     The beam-element counterpart of ``solve(..., flexible=True)`` (which lumps the robots'
@@ -91,9 +91,11 @@ def flexible_line_tip(robot: RobotProperties, joint_nm_per_rad: float, robots_ov
         raise InputError(f"joint stiffness must be > 0 N m/rad, got {joint_nm_per_rad!r}")
     if not (isinstance(robots_over, int) and robots_over >= 1):
         raise InputError(f"robots over the edge must be an integer >= 1, got {robots_over!r}")
+    from .bodies import body_bending
+
     fill = min(1.0, robot.mass_kg / (robot.density_kg_m3 * robot.length_m * robot.width_m * robot.height_m))
-    ei = robot.youngs_modulus_pa * fill * robot.width_m * robot.height_m ** 3 / 12.0
-    ea = robot.youngs_modulus_pa * fill * robot.width_m * robot.height_m
+    ei = body_bending(robot).flexural_rigidity_n_m2  # the same E I as the lumped model's
+    ea = robot.youngs_modulus_pa * fill * robot.width_m * robot.height_m  # axial: barely matters in bending
     mu = robot.mass_kg / robot.length_m
     # Segments from the clamp outwards: joint at the edge, then robot, joint, robot, ...
     segs: list[tuple[float, float]] = []  # (length, bending stiffness)
