@@ -346,6 +346,10 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
     props = {n: replace(p, **stack_fields(models[n], pairs)) for n, p in props.items()}
     # where each robot touches the ground (wheel and caster contacts: structure_fem's ledge supports)
     props = {n: replace(p, **ground_contact_fields(models[n])) for n, p in props.items()}
+    # the printed body's bending section (structure_fem's flexible bodies)
+    from .section import body_section_fields
+
+    props = {n: replace(p, **body_section_fields(models[n])) for n, p in props.items()}
     pfile = RobotPropertiesFile(robots=tuple(props.values()))
     pfile.save(out / "robot_properties.json")
     robots_summary = {}

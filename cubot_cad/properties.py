@@ -254,6 +254,12 @@ class RobotProperties:
     #: (see ``structure_fem.contacts``).
     ground_contacts: tuple[GroundContact, ...] | None = None
     ground_contacts_source: str | None = None
+    #: The printed body's effective second moment of area for bending in the structure's
+    #: vertical plane (m^4; :func:`cubot_cad.section.body_section`: the shell cut from the CAD,
+    #: ``I_eff = L / integral dx / I(x)``), and how it was obtained. None: not in the record (a
+    #: record written before it): `structure_fem.bodies` falls back to the envelope box.
+    body_second_moment_m4: float | None = None
+    body_second_moment_source: str | None = None
 
     def __post_init__(self) -> None:
         require(bool(self.name), "robot name must not be empty")
@@ -265,6 +271,13 @@ class RobotProperties:
             require(_finite(v) and 0 < v < 1, f"{self.name}.{name}_m must be in (0, 1) m, got {v!r}")
             require(isinstance(src, str) and bool(src.strip()),
                     f"{self.name}.{name}_m needs a {name}_source saying where it comes from")
+        i_b, i_src = self.body_second_moment_m4, self.body_second_moment_source
+        if i_b is None:
+            require(i_src is None, f"{self.name}.body_second_moment_source is given without body_second_moment_m4")
+        else:
+            require(_finite(i_b) and i_b > 0, f"{self.name}.body_second_moment_m4 must be > 0 m^4, got {i_b!r}")
+            require(isinstance(i_src, str) and bool(i_src.strip()),
+                    f"{self.name}.body_second_moment_m4 needs a body_second_moment_source saying where it comes from")
         for name in ("length_m", "width_m", "height_m", "mass_kg", "density_kg_m3", "youngs_modulus_pa"):
             v = getattr(self, name)
             require(_finite(v) and v > 0, f"{self.name}.{name} must be > 0, got {v!r}")

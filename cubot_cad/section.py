@@ -119,3 +119,14 @@ def body_section(robot, roles: tuple[str, ...] = ("body",), stations: int = DEFA
                        stations=stations, length_mm=float(length), min_second_moment_mm4=float(i_min),
                        min_at_x_mm=float(x_min), effective_second_moment_mm4=float(length / compliance),
                        mean_area_mm2=float(area_sum / stations))
+
+
+def body_section_fields(robot, stations: int = DEFAULT_STATIONS) -> dict:
+    """``{"body_second_moment_m4": ..., "body_second_moment_source": ...}`` for a parametric
+    :class:`cubot_cad.robot.Robot`, to ``dataclasses.replace`` into its
+    :class:`cubot_cad.properties.RobotProperties` when the record is written (empty when the
+    robot has no part with the ``body`` role)."""
+    if not any(p.role == "body" for p in robot.placed):
+        return {}
+    sec = body_section(robot, stations=stations)
+    return {"body_second_moment_m4": sec.effective_second_moment_m4, "body_second_moment_source": sec.source}
