@@ -21,11 +21,13 @@ For each structure of a :class:`~structure_fem.study.Derivation` at its threshol
   as ``elastic`` in the chain; ``play_total`` counts them. In an arch the rear body's motion
   (``support``) is large: the part on the ground turns about the edge as a block, each robot on
   its front corner, the pins' vertical slip letting each tilt (play-enabled, and counted in
-  ``play_total``). ``set_by`` names the larger of
-  ``play_total`` and ``support``, or ``elastic``, by share of the tip.
+  ``play_total``). With flexible bodies (the default) ``bodies`` = the tip less the tip of the
+  same structure with rigid bodies (the robots' own bending, :mod:`structure_fem.bodies`), and
+  ``elastic`` is the couplings' share without it. ``set_by`` names the largest of
+  ``play_total``, ``support``, ``bodies`` and ``elastic``, by share of the tip.
 * **range** over plausible inputs, one factor at a time and the combined extremes: print
   clearance 0.1 and 0.4 mm (every play scaled by clearance / the record's clearance), printed
-  instead of bulk modulus (every stiffness x ``PRINTED_MODULUS_FACTOR``). Each variant's
+  instead of bulk modulus (every stiffness and the bodies' modulus x ``PRINTED_MODULUS_FACTOR``). Each variant's
   threshold is found by stepping from the base threshold (the tip grows with the width).
 """
 
@@ -140,7 +142,9 @@ def _variants(inp: StudyInputs) -> list[tuple[str, StudyInputs]]:
     soft = PRINTED_MODULUS_FACTOR
 
     def v(play: float, stiff: float) -> StudyInputs:
-        return replace(inp, connectors=inp.connectors.scaled(stiff, play))
+        # the printed modulus softens the bodies too (flexible bodies bend with E I)
+        robot = inp.robot if stiff == 1.0 else replace(inp.robot, youngs_modulus_pa=inp.robot.youngs_modulus_pa * stiff)
+        return replace(inp, robot=robot, connectors=inp.connectors.scaled(stiff, play))
 
     return [(f"print clearance {lo:g} mm", v(lo / c0, 1.0)), (f"print clearance {hi:g} mm", v(hi / c0, 1.0)),
             (f"printed modulus x{soft:g}", v(1.0, soft)),
@@ -155,6 +159,10 @@ def structure_report(d: Derivation, c: Curve, ranges: bool = True) -> dict:
     w = c.threshold
     out: dict = {"structure": s.name, "threshold": w, "bodies": "flexible" if inp.flexible else "rigid",
                  "clearance_mm": clear}
+    if inp.flexible:
+        from .bodies import body_bending
+
+        out["bodies_source"] = body_bending(inp.robot).to_dict()
     if w < 1:
         out.update({"margin_mm": None, "note": "crosses no void within the clearance"})
         return out
@@ -181,6 +189,10 @@ def structure_report(d: Derivation, c: Curve, ranges: bool = True) -> dict:
         dec["without_play_tip_mm"] = free.tip_deflection_mm
         dec["play_total_mm"] = res.tip_deflection_mm - free.tip_deflection_mm
         shares = {"play": dec["play_total_mm"], "support (tipping about the edge)": dec["support_mm"]}
+        if inp.flexible:  # the robots' own bending: the flexible tip less the rigid-body one
+            rigid = solve(Config(s, c.rows[i], w, w), inp.robot, inp.connectors, False)
+            dec["rigid_bodies_tip_mm"] = rigid.tip_deflection_mm
+            shares["bodies"] = res.tip_deflection_mm - rigid.tip_deflection_mm
         shares["elastic"] = res.tip_deflection_mm - sum(shares.values())
         out["set_by"] = max(shares, key=lambda k: shares[k])
         if c.static_threshold is not None and c.static_threshold > w:
@@ -198,6 +210,7 @@ def structure_report(d: Derivation, c: Curve, ranges: bool = True) -> dict:
             rng.append({"inputs": name, "threshold": t, **({"note": note} if note else {})})
         ts = [r["threshold"] for r in rng] + [w]
         out["range"] = {"min": min(ts), "max": max(ts), "variants": rng,
+                        "criterion": "variants: static tip <= clearance (their launch transients are not integrated)",
                         "record_print_clearance_mm": round(record_clearance_mm(inp), 4)}
     return out
 
@@ -218,13 +231,18 @@ def markdown(rep: list[dict]) -> str:
              "of the tip along the bottom line (support = the rear body's motion: sinking, lifting; play = inside the joints' "
              "own pitch band and vertical slip; elastic = the rest); play (all) = tip - tip with every play set "
              f"to zero. Range: print clearance {PRINT_CLEARANCE_RANGE_MM[0]:g}-{PRINT_CLEARANCE_RANGE_MM[1]:g} mm, "
-             f"printed modulus x{PRINTED_MODULUS_FACTOR:g}, and both.", "",
+             f"printed modulus x{PRINTED_MODULUS_FACTOR:g} (couplings and bodies), and both. Bodies: flexible = "
+             "each robot bends with its printed shell's section from the CAD (+ what that adds to the tip over "
+             "rigid bodies), rigid = only the couplings bend.", "",
              "| structure | threshold | margin mm | beyond mm | tip mm | support / play / elastic mm | "
              "play (all) mm | set by | range | bodies |",
              "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rep:
+        bodies = r["bodies"]
+        if "rigid_bodies_tip_mm" in r.get("decomposition", {}):  # how much the robots' own bending adds
+            bodies += f" (+{r['tip_mm'] - r['decomposition']['rigid_bodies_tip_mm']:.2f} mm)"
         if r["threshold"] < 1:
-            lines.append(f"| {r['structure']} | 0 | - | - | - | - | - | - | - | {r['bodies']} |")
+            lines.append(f"| {r['structure']} | 0 | - | - | - | - | - | - | - | {bodies} |")
             continue
         dec = r.get("decomposition", {})
         parts = ("-" if "support_mm" not in dec else
@@ -239,7 +257,7 @@ def markdown(rep: list[dict]) -> str:
             setby += f" ({100 * r['set_by_share']:.0f} %)"
         cap = " (>=, at the widest width studied)" if r.get("capped_by_max_width") else ""
         lines.append(f"| {r['structure']} | {r['threshold']}{cap} | {r['margin_mm']:.2f}{flag} | {beyond} | "
-                     f"{r['tip_mm']:.2f} | {parts} | {pa} | {setby} | {rng} | {r['bodies']} |")
+                     f"{r['tip_mm']:.2f} | {parts} | {pa} | {setby} | {rng} | {bodies} |")
     return "\n".join(lines) + "\n"
 
 

@@ -42,9 +42,9 @@
   converge, to 1e-7 in the tests; near tipping, balanced on the ledge edge with
   the rear unloaded, the play admits more than one and the path can pick another).
 
-Optional ``flexible=True`` adds each robot's own bending compliance
-``L / (E I)`` (printed material modulus, hollow section ``I`` scaled by the
-robot's fill fraction) in series with the couplings, half a robot on each
+``flexible=True`` (the table's default, :mod:`structure_fem.bodies`) adds each robot's own
+bending compliance ``L / (E I)`` (printed material modulus, the printed shell's section cut
+from the CAD, ``RobotProperties.body_second_moment_m4``) in series with the couplings, half a robot on each
 side of every front-rear joint: a lumped beam whose curvature sits at the
 joints, exact for the joints' moment when the robots are short compared with
 the span, enough to show (as Eq. 7.1 suggests) whether body bending matters.
@@ -169,13 +169,11 @@ class StaticResult:
 
 
 def _flexible(conn: ConnectorSet, robot: RobotProperties) -> ConnectorSet:
-    """Add half a robot's bending compliance on each side of every front-rear joint."""
-    fill = robot.mass_kg / (robot.density_kg_m3 * robot.length_m * robot.width_m * robot.height_m)
-    ei = robot.youngs_modulus_pa * min(fill, 1.0) * robot.width_m * robot.height_m ** 3 / 12.0
-    c_body = robot.length_m / ei
-    fr = conn.front_rear
-    k = 1.0 / (1.0 / fr.rotational_nm_per_rad + c_body)
-    return replace(conn, front_rear=replace(fr, rotational_nm_per_rad=k))
+    """Add half a robot's bending compliance on each side of every front-rear joint
+    (:func:`structure_fem.bodies.with_body_bending`: the CAD's section, one home for ``E I``)."""
+    from .bodies import with_body_bending
+
+    return with_body_bending(conn, robot)
 
 
 def solve(config: Config, robot: RobotProperties, conn: ConnectorSet | None = None,

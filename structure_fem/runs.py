@@ -63,14 +63,17 @@ class RunOptions:
     backlash_scale: float = 1.0
     mass_scale: float = 1.0
     required_tipping: float = 1.0
-    flexible: bool = False
+    #: The robots bend with their printed shell's section (structure_fem.bodies; the default);
+    #: False: rigid bodies, only the couplings are compliant (``--rigid``).
+    flexible: bool = True
     calibration_backlash: float | None = None
     max_width: int = 30
     #: Derive the pier (multi-span) rule into the limits (``auto``) or not (``none``).
     piers: str = "auto"
-    #: Threshold criterion static tip + launch-transient overshoot <= clearance
-    #: (:mod:`structure_fem.dynamics`; exudyn time integration at the threshold, 1-120 s per structure).
-    dynamic: bool = False
+    #: Threshold criterion static tip + launch-transient overshoot <= clearance (the default;
+    #: :mod:`structure_fem.dynamics`, exudyn time integration at the threshold, 1-120 s per structure
+    #: cold, cached by input hash in :mod:`structure_fem.dynamics_cache`); False: static tip <= clearance.
+    dynamic: bool = True
     #: First-mode damping ratio of the launch transients (an assumption: dynamics.DEFAULT_DAMPING_RATIO).
     damping_ratio: float = 0.02
 
@@ -126,12 +129,16 @@ def make_inputs(opts: RunOptions, props: RobotPropertiesFile | None = None,
 def _alt_thresholds(inp: StudyInputs, info: dict, opts: RunOptions) -> list[tuple[str, NonConvergence]]:
     """Thresholds with the other connector source, for the calibration report; returns its
     non-converged solves with their context."""
-    alt_opts = replace(opts, connectors="calibrated" if opts.connectors != "calibrated" else "properties")
+    # static criterion: the alternative shows what the connector source moves; its launch
+    # transients would double a cold table's integration time for a side report
+    alt_opts = replace(opts, connectors="calibrated" if opts.connectors != "calibrated" else "properties",
+                       dynamic=False)
     alt_inp, _ = make_inputs(alt_opts)
     alt = derive(alt_inp, extra=0)
     th = alt.thresholds()
     info["calibrated_alternative"]["thresholds_with_" + alt_opts.connectors + "_connectors"] = {
         k: th[k] for k in ("line", "two_line", "arch", "arch_levels")}
+    info["calibrated_alternative"]["criterion"] = "static (tip <= clearance, no launch transients)"
     return [(f"{alt_opts.connectors} connectors alternative", f) for f in alt.failures]
 
 
@@ -312,7 +319,8 @@ SENSITIVITY = (
 def sensitivity(opts: RunOptions, progress: Progress | None = None, grid=SENSITIVITY,
                 failures: list[tuple[str, NonConvergence]] | None = None) -> list[dict]:
     """Thresholds vs connector stiffness, backlash, robot mass and clearance (one factor at a time;
-    identical input sets are derived once). ``not_converged`` lists the widths whose solve did not
+    identical input sets are derived once; static criterion: a cold launch transient per grid
+    point would make the study hours long, and the grid shows how the inputs move the statics). ``not_converged`` lists the widths whose solve did not
     converge (counted as failing); with ``failures`` their details are appended there, with the
     grid point as context."""
     props = load_file(opts)
@@ -325,7 +333,7 @@ def sensitivity(opts: RunOptions, progress: Progress | None = None, grid=SENSITI
              "backlash": replace(opts, backlash_scale=opts.backlash_scale * v),
              "robot mass": replace(opts, mass_scale=opts.mass_scale * v),
              "clearance": replace(opts, clearance_mm=v, caster=False)}[p]
-        inp, _ = make_inputs(o, props, cal)
+        inp, _ = make_inputs(replace(o, dynamic=False), props, cal)
         key = (inp.connectors, inp.robot, inp.clearance_m)
         fresh = key not in cache
         if fresh:
@@ -371,6 +379,8 @@ def run_study(out: str | Path, opts: RunOptions = RunOptions(), progress: Progre
     th = d.thresholds()
     return {"thresholds": {k: th[k] for k in ("line", "two_line", "arch", "arch_levels")},
             "thresholds_per_structure": th["per_structure"], "clearance_mm": inp.clearance_m * 1e3,
+            "criterion": "static tip + launch allowance <= clearance" if inp.dynamic else "static tip <= clearance",
+            "sensitivity_criterion": "static tip <= clearance",
             "calibration": info, "sensitivity": sens, "files": files,
             **not_converged([("", f) for f in d.failures] + sens_failures)}
 
@@ -384,13 +394,29 @@ def packaged_limits(properties: str | None = None) -> StructureLimits:
 
 
 def write_packaged_limits(properties: str | None = None) -> Path:
-    """Regenerate ``structure_fem/data/limits.json`` (``python -m structure_fem.runs [properties.json]``)."""
+    """Regenerate ``structure_fem/data/limits.json`` (``python -m structure_fem.runs [properties.json]``,
+    which then also regenerates the packaged launch allowances: :func:`write_packaged_dynamics`)."""
     from .limits import packaged_limits_path
 
     return packaged_limits(properties).save(packaged_limits_path())
+
+
+def write_packaged_dynamics(properties: str | None = None) -> Path:
+    """Regenerate ``structure_fem/data/dynamic_allowance.json``: the launch transients the
+    default ``fem table`` (and the packaged limits) integrate for the packaged record, so a fresh
+    clone's table is served from it (:mod:`structure_fem.dynamics_cache`)."""
+    import tempfile
+
+    from . import dynamics_cache
+
+    packaged_limits(properties)
+    with tempfile.TemporaryDirectory() as tmp:
+        run_table(tmp, RunOptions(properties=properties), plots=False)
+    return dynamics_cache.write_packaged()
 
 
 if __name__ == "__main__":  # pragma: no cover
     import sys
 
     print(write_packaged_limits(sys.argv[1] if len(sys.argv) > 1 else None))
+    print(write_packaged_dynamics(sys.argv[1] if len(sys.argv) > 1 else None))

@@ -99,6 +99,14 @@ class StudyInputs:
             out[f"{name}_play_x_closing_m"], out[f"{name}_play_x_opening_m"] = j.play_x
             out[f"{name}_play_z_closing_m"], out[f"{name}_play_z_opening_m"] = j.play_z
             out[f"{name}_height_m"] = j.height_m
+        if self.flexible:
+            from .bodies import body_bending
+
+            b = body_bending(self.robot)
+            out["body_youngs_modulus_pa"] = b.youngs_modulus_pa
+            out["body_second_moment_m4"] = b.second_moment_m4
+        if self.dynamic:
+            out["damping_ratio"] = self.damping_ratio
         return out
 
     def _joints(self):
@@ -117,6 +125,16 @@ class StudyInputs:
             out[f"{name}_play"] = ("CAD clearances per feature (robot_properties.json play)"
                                    if j.has_translational_play else
                                    "pitch backlash only (no per-feature play in the record)")
+        if self.flexible:
+            from .bodies import body_bending
+
+            out["bodies"] = (f"flexible: E = the record's youngs_modulus_pa ({self.robot.material}), I = "
+                             f"{body_bending(self.robot).source}")
+        else:
+            out["bodies"] = "rigid (only the couplings bend)"
+        if self.dynamic:
+            out["damping_ratio"] = ("assumption: first-mode damping ratio of the launch transients (printed ABS/PLA "
+                                    "loss factor 0.01-0.05 plus joint friction; structure_fem.dynamics)")
         return out
 
 
@@ -303,9 +321,10 @@ def structure_curve(s: Structure, inp: StudyInputs, extra: int = 1, tick: Callab
 def dynamic_threshold(c: Curve, inp: StudyInputs) -> int:
     """Step down from the static threshold ``c.threshold`` to the widest width whose static tip +
     dynamic allowance (the larger overshoot of the support-loss and docking transients,
-    :func:`structure_fem.dynamics.dynamic_allowance_m`) stays within the clearance. A transient
-    that does not converge counts as failing (one ``NonConvergence``), as a static solve does."""
-    from .dynamics import dynamic_allowance_m
+    :func:`structure_fem.dynamics.dynamic_allowance_m`, through :mod:`structure_fem.dynamics_cache`)
+    stays within the clearance. A transient that does not converge counts as failing (one
+    ``NonConvergence``), as a static solve does."""
+    from .dynamics_cache import allowance_m
 
     clear = inp.clearance_m * 1e3
     w = c.threshold
@@ -313,8 +332,8 @@ def dynamic_threshold(c: Curve, inp: StudyInputs) -> int:
         i = c.index(w, inp)
         try:
             res = solve(Config(c.structure, c.rows[i], w, w), inp.robot, inp.connectors, inp.flexible)
-            a = 1e3 * dynamic_allowance_m(c.structure, w, inp.robot, inp.damping_ratio, connectors=inp.connectors,
-                                          flexible=inp.flexible, static=res)
+            a = 1e3 * allowance_m(c.structure, w, inp.robot, inp.damping_ratio, rows=c.rows[i],
+                                  connectors=inp.connectors, flexible=inp.flexible, static=res)
         except SolverFailure as exc:
             c.failures.append(NonConvergence(c.structure.name, w, "launch transient", "counted as failing", str(exc)))
             w -= 1
@@ -411,8 +430,16 @@ def limits_from(d: Derivation, source: str = "derived") -> StructureLimits:
     failing = [f"{f.structure} at width {f.width}" for f in d.failures if f.counted_as == "counted as failing"]
     notes = (f"Derived by structure_fem (exudyn planar multibody, penalty couplings with pitch dead band and "
              f"translational play per feature from the CAD clearances) for "
-             f"{inp.robot.name}: clearance {inp.clearance_m * 1e3:g} mm, tipping factor > {inp.required_tipping:g}. "
-             f"Own thresholds per structure: {th['per_structure']}. "
+             f"{inp.robot.name}: clearance {inp.clearance_m * 1e3:g} mm, tipping factor > {inp.required_tipping:g}; "
+             + ("flexible bodies (each robot bends with its printed shell's section from the CAD)" if inp.flexible
+                else "rigid bodies")
+             + ("; criterion static tip + launch-transient allowance (a row leaving the ledge, a recruit docking; "
+                f"damping ratio {inp.damping_ratio:g}) <= clearance" if inp.dynamic else "; criterion static tip <= clearance")
+             + ". "
+             f"Own thresholds per structure: {th['per_structure']}"
+             + ("" if not inp.dynamic else
+                f" (static criterion alone: {dict((c.structure.name, c.static_threshold) for c in d.curves)})")
+             + ". "
              f"Rows on the initial ground >= rows over the void + margin (n_p = n_g + margin) replaces the thesis's "
              f"n_p = 2 n_g. Widest void crossed: {d.max_span} robot widths"
              + (" (< 30: no structure up to 8 wide x 4 high keeps the tip within the clearance beyond it)"

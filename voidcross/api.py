@@ -455,7 +455,7 @@ def limits(name: str | os.PathLike = "derived") -> StructureLimits:
 
 
 def _fem_options(properties, robot, clearance_mm, caster, connectors, max_width_robots, stiffness_scale,
-                 backlash_scale, mass_scale, tipping, flexible):
+                 backlash_scale, mass_scale, tipping, flexible, dynamic=True):
     from structure_fem.runs import RunOptions
 
     try:
@@ -466,13 +466,14 @@ def _fem_options(properties, robot, clearance_mm, caster, connectors, max_width_
     return RunOptions(properties=None if properties is None else os.fspath(properties), robot=robot,
                       clearance_mm=clearance_mm, caster=caster, connectors=connectors,
                       stiffness_scale=stiffness_scale, backlash_scale=backlash_scale, mass_scale=mass_scale,
-                      required_tipping=tipping, flexible=flexible, max_width=max_width_robots)
+                      required_tipping=tipping, flexible=flexible, max_width=max_width_robots, dynamic=dynamic)
 
 
 def fem_table(properties: str | os.PathLike | None = None, robot: str = "cubot", clearance_mm: float | None = None,
               caster: bool = False, connectors: str = "fe", max_width_robots: int = 30,
               stiffness_scale: float = 1.0, backlash_scale: float = 1.0, mass_scale: float = 1.0,
-              tipping: float = 1.0, flexible: bool = False, out: str | os.PathLike | None = None) -> list[dict]:
+              tipping: float = 1.0, flexible: bool = True, dynamic: bool = True,
+              out: str | os.PathLike | None = None) -> list[dict]:
     """The structure-selection table, one record per void width, as ``voidcross fem table`` derives it.
 
     Calls :func:`structure_fem.runs.run_table` (the function behind ``voidcross fem table``; its
@@ -498,7 +499,10 @@ def fem_table(properties: str | os.PathLike | None = None, robot: str = "cubot",
         stiffness_scale, backlash_scale, mass_scale: multiply every coupling stiffness, every
             backlash, the robot's mass and inertia (sensitivity studies).
         tipping: required tipping safety factor at the longest cantilever (>= 1).
-        flexible: add the robots' own bending compliance.
+        flexible: the robots bend with their printed shell's section from the CAD (default);
+            False: rigid bodies.
+        dynamic: threshold criterion static tip + launch-transient allowance <= clearance
+            (default; cached by input hash); False: static tip <= clearance.
         out: also keep the files ``fem table`` writes (``selection_table.md/.csv``,
             ``limits.json``, ``thesis_tapering_arches.csv``) in this directory; ``None``: a
             temporary directory, deleted.
@@ -533,7 +537,7 @@ def fem_table(properties: str | os.PathLike | None = None, robot: str = "cubot",
     from structure_fem.runs import run_table
 
     opts = _fem_options(properties, robot, clearance_mm, caster, connectors, max_width_robots, stiffness_scale,
-                        backlash_scale, mass_scale, tipping, flexible)
+                        backlash_scale, mass_scale, tipping, flexible, dynamic)
 
     def records(res: dict) -> list[dict]:
         for line in res.get("warnings", ()):  # solves that did not converge, as the CLI's stderr lines
@@ -553,7 +557,7 @@ def fem_table(properties: str | os.PathLike | None = None, robot: str = "cubot",
 def deflection_curves(properties: str | os.PathLike | None = None, robot: str = "cubot",
                       clearance_mm: float | None = None, caster: bool = False, connectors: str = "fe",
                       max_width_robots: int = 8, stiffness_scale: float = 1.0, backlash_scale: float = 1.0,
-                      mass_scale: float = 1.0, tipping: float = 1.0, flexible: bool = False) -> list[dict]:
+                      mass_scale: float = 1.0, tipping: float = 1.0, flexible: bool = True) -> list[dict]:
     """Tip deflection at the longest cantilever for each candidate structure and void width.
 
     What ``voidcross fem study`` writes to ``deflection_vs_width.csv`` and plots in

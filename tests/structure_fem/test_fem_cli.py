@@ -36,10 +36,10 @@ def modified_properties(tmp_path_factory, make_robot):
 
 
 def test_table_json_outputs_and_properties_change_the_table(cli, tmp_path, test_properties, modified_properties):
-    base = cli("fem", "table", "--out", str(tmp_path / "base"), "--properties", str(test_properties), "--json",
+    base = cli("fem", "table", "--static", "--out", str(tmp_path / "base"), "--properties", str(test_properties), "--json",
                "--max-width", "8")
     assert base.code == 0, base.err
-    res = cli("fem", "table", "--out", str(tmp_path), "--properties", str(modified_properties), "--json",
+    res = cli("fem", "table", "--static", "--out", str(tmp_path), "--properties", str(modified_properties), "--json",
               "--docs", str(tmp_path / "docs"), "--max-width", "8")
     assert res.code == 0, res.err
     out = res.json()
@@ -52,9 +52,9 @@ def test_table_json_outputs_and_properties_change_the_table(cli, tmp_path, test_
     by = {r["structure"]: r for r in out["structures"]}
     assert set(by) == set(out["thresholds_per_structure"])
     for name, r in by.items():
-        assert r["threshold"] == out["thresholds_per_structure"][name] and r["bodies"] == "rigid"
+        assert r["threshold"] == out["thresholds_per_structure"][name] and r["bodies"] == "flexible"
         if r["threshold"]:
-            assert r["margin_mm"] >= 0 and r["set_by"] in ("play", "elastic", "support (tipping about the edge)")
+            assert r["margin_mm"] >= 0 and r["set_by"] in ("play", "elastic", "bodies", "support (tipping about the edge)")
     assert by["line"]["range"]["min"] <= by["line"]["threshold"] <= by["line"]["range"]["max"]
     assert "## Thresholds, margins and what sets them" in (tmp_path / "selection_table.md").read_text()
     # the test robot is not the parametric CuBot: its hand-formula values are used, and it says why
@@ -154,7 +154,7 @@ def test_study_writes_plots_and_a_sensitivity_that_moves_the_right_way(tmp_path,
     from structure_fem.runs import RunOptions, run_study
 
     grid = (("connector stiffness", "x record", (0.5, 2.0)), ("clearance", "mm", (5.0, 20.0)))
-    res = run_study(tmp_path, RunOptions(properties=str(test_properties), max_width=8), grid=grid)
+    res = run_study(tmp_path, RunOptions(properties=str(test_properties), max_width=8, dynamic=False), grid=grid)
     for key in ("deflection_plot", "side_view", "curves_csv", "sensitivity_csv", "sensitivity_plot"):
         assert (tmp_path / res["files"][key].split("/")[-1]).stat().st_size > 0
     rows = {(r["parameter"], r["value"]): r for r in res["sensitivity"]}
@@ -162,3 +162,16 @@ def test_study_writes_plots_and_a_sensitivity_that_moves_the_right_way(tmp_path,
         assert rows[("connector stiffness", 0.5)][kind] <= rows[("connector stiffness", 2.0)][kind]
         assert rows[("clearance", 5.0)][kind] <= rows[("clearance", 20.0)][kind]
     assert rows[("clearance", 5.0)]["max_span"] < rows[("clearance", 20.0)]["max_span"]
+
+
+def test_bodies_are_flexible_by_default_and_rigid_on_request():
+    """`fem table|study|solve` bend the robots with the CAD's section unless told `--rigid`."""
+    from voidcross.cli import build_parser
+    from voidcross.commands.fem import _opts
+
+    p = build_parser()
+    assert _opts(p.parse_args(["fem", "table"])).flexible is True
+    assert _opts(p.parse_args(["fem", "table", "--flexible"])).flexible is True
+    assert _opts(p.parse_args(["fem", "study", "--rigid"])).flexible is False
+    with pytest.raises(SystemExit):
+        p.parse_args(["fem", "table", "--rigid", "--flexible"])

@@ -25,7 +25,16 @@ def test_margin_is_non_negative_at_the_threshold_and_negative_one_width_beyond(l
     assert r["margin_mm"] >= 0
     assert r["margin_beyond_mm"] < 0
     assert r["margin_mm"] == pytest.approx(r["clearance_mm"] - r["tip_mm"], abs=1e-3)
-    assert r["bodies"] == "rigid"
+    assert r["bodies"] == "flexible"  # the table's default (issue 12, deliverable 3)
+
+
+def test_flexible_bodies_add_their_bending_and_say_where_it_comes_from(line_report):
+    """The bodies' share is the flexible tip less the rigid-body tip of the same structure, and
+    the record's section (cut from the CAD) is what they bend with."""
+    d = line_report["decomposition"]
+    assert 0 < d["rigid_bodies_tip_mm"] < line_report["tip_mm"]
+    src = line_report["bodies_source"]
+    assert src["second_moment_m4"] > 0 and src["source"].startswith("cubot_cad.section")
 
 
 def test_the_decomposition_sums_to_the_tip_within_one_percent(line_report):
@@ -66,7 +75,7 @@ def test_markdown_flags_a_marginal_threshold(line_report):
 
 def test_a_threshold_at_the_widest_width_studied_is_marked_as_a_lower_bound(line_report):
 
-    inp, _ = make_inputs(RunOptions(max_width=2))
+    inp, _ = make_inputs(RunOptions(max_width=2, dynamic=False))
     c = structure_curve(Structure("line"), inp, extra=1)
     r = margins.structure_report(Derivation(inp, [c], []), c, ranges=False)
     assert r["threshold"] == 2 and r["capped_by_max_width"] and r["margin_beyond_mm"] is None

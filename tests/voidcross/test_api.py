@@ -196,7 +196,7 @@ def table(tmp_path_factory):
     """The table for voids 1..6 wide from the packaged robot_properties.json (~10 s)."""
     pytest.importorskip("exudyn")
     out = tmp_path_factory.mktemp("fem")
-    return out, api.fem_table(max_width_robots=6, out=out)
+    return out, api.fem_table(max_width_robots=6, dynamic=False, out=out)
 
 
 def test_fem_table_records_carry_thresholds_for_each_structure(table):

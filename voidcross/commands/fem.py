@@ -58,12 +58,21 @@ def _add_inputs(p: argparse.ArgumentParser) -> None:
     g.add_argument("--mass-scale", type=float, default=1.0, help="multiply the robot's mass and inertia")
     g.add_argument("--tipping", type=float, default=1.0, metavar="F",
                    help="required tipping safety factor (> F at the longest cantilever; default 1)")
-    g.add_argument("--flexible", action="store_true", help="add the robots' own bending compliance (E of the material)")
-    g.add_argument("--dynamic", action="store_true",
-                   help="threshold = static tip + launch-transient overshoot (a row leaving the ledge, a recruit "
-                        "docking) <= clearance: exudyn time integration at the threshold (adds 1-120 s per structure)")
+    bodies = g.add_mutually_exclusive_group()
+    bodies.add_argument("--rigid", dest="flexible", action="store_false",
+                        help="rigid robot bodies (only the couplings bend); default: flexible bodies")
+    bodies.add_argument("--flexible", dest="flexible", action="store_true", default=True,
+                        help="the default: each robot bends with its printed shell's section from the CAD "
+                             "(E of the material, I of body_second_moment_m4)")
+    crit = g.add_mutually_exclusive_group()
+    crit.add_argument("--dynamic", dest="dynamic", action="store_true", default=True,
+                      help="the default: threshold = static tip + launch-transient overshoot (a row leaving the "
+                           "ledge, a recruit docking) <= clearance; exudyn time integration at the threshold, "
+                           "cached by input hash (cold: 1-120 s per structure; the packaged record's are shipped)")
+    crit.add_argument("--static", dest="dynamic", action="store_false",
+                      help="threshold = static tip <= clearance (no launch transients)")
     g.add_argument("--damping-ratio", type=float, default=0.02, metavar="Z",
-                   help="first-mode damping ratio of the transients with --dynamic (default 0.02, an assumption: "
+                   help="first-mode damping ratio of the launch transients (default 0.02, an assumption: "
                         "printed ABS/PLA 0.5-2.5 %% plus joint friction)")
     g.add_argument("--max-width", type=int, default=30, metavar="W",
                    help="widest void studied, robot widths (default 30)")
@@ -94,7 +103,7 @@ def _opts(args):
                       backlash_scale=args.backlash_scale, mass_scale=args.mass_scale, required_tipping=args.tipping,
                       flexible=args.flexible, calibration_backlash=args.calibration_backlash,
                       max_width=args.max_width, measured=args.measured,
-                      piers=getattr(args, "piers_rule", "auto"), dynamic=getattr(args, "dynamic", False),
+                      piers=getattr(args, "piers_rule", "auto"), dynamic=getattr(args, "dynamic", True),
                       damping_ratio=getattr(args, "damping_ratio", 0.02))
 
 

@@ -1,0 +1,148 @@
+"""The launch transients' allowance, cached by a hash of everything it depends on (SI units).
+
+A launch transient (:func:`structure_fem.dynamics.dynamic_allowance_m`) is an exudyn time
+integration: 1-120 s per structure and width. The threshold criterion of the table is static
+tip + that allowance <= clearance (issue 12, deliverable 4), so without a cache every
+``fem table`` would integrate the transients again. The allowance is a pure function of
+
+* the structure (kind, lines, layers, arrangement, taper) and the width and rows solved,
+* the robot record (every field: mass, inertia, section, contacts, connectors as recorded),
+* the connector set the model uses (after the FE, measured or calibrated sources and scales),
+* the bodies (flexible or rigid), the damping ratio, the events and the integration settings,
+* the code (:data:`MODEL_VERSION`: bump it when ``dynamics.py`` or the static model changes
+  what a transient gives; ``tests/structure_fem/test_dynamics_cache.py`` holds a cached value
+  to a fresh integration, so a stale version shows),
+
+so its sha256 over a canonical JSON of those inputs is the key. Entries live in the user cache
+(``$XDG_CACHE_HOME/voidcross/dynamics/<key>.json``, one file each, written atomically) and in
+the packaged results (``structure_fem/data/dynamic_allowance.json``, written with the packaged
+limits by :func:`write_packaged` from the keys the regeneration used), so the shipped table's
+transients are never integrated on a fresh clone. A corrupt cache file is ignored (recomputed
+and rewritten), never trusted.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+from dataclasses import asdict
+from pathlib import Path
+
+from cubot_cad.jsonrecord import to_jsonable
+
+#: Bump when the transient model (dynamics.py, the static solve it starts from) changes its result.
+MODEL_VERSION = "launch_transient/1"
+#: The packaged allowances (a list of entries ``{"key", "allowance_m", "inputs"}``).
+PACKAGED = Path(__file__).parent / "data" / "dynamic_allowance.json"
+
+#: Keys looked up or computed in this process (what :func:`write_packaged` ships).
+_USED: dict[str, dict] = {}
+_PACKAGED: dict[str, dict] | None = None
+
+
+def default_cache_dir() -> Path:
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "voidcross" / "dynamics"
+
+
+def inputs_of(structure, width, rows: int, robot, connectors, flexible: bool, damping_ratio: float,
+              events: tuple[str, ...]) -> dict:
+    """The canonical inputs of one allowance (what the key hashes)."""
+    from .dynamics import DEFAULT_PERIODS, DEFAULT_STEPS_PER_PERIOD, LOW_DAMPING_STEPS_PER_PERIOD
+    from .model import SolverOptions
+
+    return {"model": MODEL_VERSION, "structure": asdict(structure), "width": float(width), "rows": int(rows),
+            "robot": to_jsonable(robot), "connectors": connectors.to_dict(), "flexible": bool(flexible),
+            "damping_ratio": float(damping_ratio), "events": list(events),
+            "integration": {"steps_per_period": DEFAULT_STEPS_PER_PERIOD,
+                            "low_damping_steps_per_period": LOW_DAMPING_STEPS_PER_PERIOD,
+                            "periods": DEFAULT_PERIODS},
+            "solver": asdict(SolverOptions())}
+
+
+def key_of(inputs: dict) -> str:
+    return hashlib.sha256(json.dumps(inputs, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
+
+
+def _packaged() -> dict[str, dict]:
+    global _PACKAGED
+    if _PACKAGED is None:
+        _PACKAGED = {}
+        try:
+            rows = json.loads(PACKAGED.read_text())
+            for e in rows if isinstance(rows, list) else []:
+                if isinstance(e, dict) and isinstance(e.get("key"), str) and _valid(e.get("allowance_m")):
+                    _PACKAGED[e["key"]] = e
+        except (OSError, ValueError):
+            _PACKAGED = {}
+    return _PACKAGED
+
+
+def _valid(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v >= 0
+
+
+def lookup(key: str, cache_dir: Path | None = None) -> dict | None:
+    """The cached entry of ``key`` (user cache, then packaged), or None."""
+    p = (cache_dir or default_cache_dir()) / f"{key}.json"
+    try:
+        e = json.loads(p.read_text())
+        if isinstance(e, dict) and e.get("key") == key and _valid(e.get("allowance_m")):
+            return e
+    except (OSError, ValueError):
+        pass
+    return _packaged().get(key)
+
+
+def store(entry: dict, cache_dir: Path | None = None) -> None:
+    """Write ``entry`` to the user cache (atomically; a read-only cache is skipped, not an error)."""
+    d = cache_dir or default_cache_dir()
+    try:
+        d.mkdir(parents=True, exist_ok=True)
+        tmp = d / f".{entry['key']}.{os.getpid()}.tmp"
+        tmp.write_text(json.dumps(entry, sort_keys=True))
+        os.replace(tmp, d / f"{entry['key']}.json")
+    except OSError:
+        pass
+
+
+def allowance_m(structure, width, robot, damping_ratio: float, *, rows: int, connectors, flexible: bool,
+                static=None, events: tuple[str, ...] | None = None, cache_dir: Path | None = None,
+                compute=None) -> float:
+    """:func:`structure_fem.dynamics.dynamic_allowance_m` through the cache (module docstring);
+    ``compute`` replaces the integration (tests)."""
+    from .dynamics import EVENTS, dynamic_allowance_m
+
+    events = EVENTS if events is None else tuple(events)
+    inputs = inputs_of(structure, width, rows, robot, connectors, flexible, damping_ratio, events)
+    key = key_of(inputs)
+    hit = lookup(key, cache_dir)
+    if hit is not None:
+        _USED[key] = hit
+        return float(hit["allowance_m"])
+    fn = compute or dynamic_allowance_m
+    a = float(fn(structure, width, robot, damping_ratio, events=events, connectors=connectors, flexible=flexible,
+                 static=static))
+    entry = {"key": key, "allowance_m": a, "structure": structure.name, "width": float(width), "rows": int(rows),
+             "robot": robot.name, "flexible": bool(flexible), "damping_ratio": float(damping_ratio),
+             "model": MODEL_VERSION}
+    store(entry, cache_dir)
+    _USED[key] = entry
+    return a
+
+
+def used() -> list[dict]:
+    """The entries looked up or computed in this process, by key."""
+    return [_USED[k] for k in sorted(_USED)]
+
+
+def write_packaged(path: Path = PACKAGED) -> Path:
+    """Ship this process's entries (the regeneration's) as the packaged allowances."""
+    from cubot_cad.jsonrecord import write_json_atomic
+
+    global _PACKAGED
+    write_json_atomic(path, used())
+    _PACKAGED = None
+    return path
