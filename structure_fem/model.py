@@ -178,6 +178,18 @@ def _flexible(conn: ConnectorSet, robot: RobotProperties) -> ConnectorSet:
 
 def solve(config: Config, robot: RobotProperties, conn: ConnectorSet | None = None,
           flexible: bool = False, options: SolverOptions = SolverOptions()) -> StaticResult:
+    """Build the exudyn system for ``config`` and solve it statically (:func:`solve_uncached`),
+    through the solve cache (:mod:`structure_fem.solve_cache`: the result or the failure, by a
+    hash of the inputs and of the model's code; ``VOIDCROSS_SOLVE_CACHE=0`` turns it off)."""
+    from .solve_cache import cached_solve
+
+    if conn is None:
+        conn = ConnectorSet.from_robot(robot)
+    return cached_solve(solve_uncached, SolverFailure, config, robot, conn, flexible, options)
+
+
+def solve_uncached(config: Config, robot: RobotProperties, conn: ConnectorSet | None = None,
+                   flexible: bool = False, options: SolverOptions = SolverOptions()) -> StaticResult:
     """Build the exudyn system for ``config`` and solve it statically.
 
     The first run ramps gravity with the dead-band smoothing continuation of

@@ -6,7 +6,8 @@ import pytest
 
 pytest.importorskip("exudyn")
 
-from structure_fem.model import Config, solve  # noqa: E402
+from structure_fem.model import Config  # noqa: E402
+from structure_fem.model import solve_uncached as solve  # noqa: E402  (the solver, not the solve cache)
 from structure_fem.runs import RunOptions, run_table  # noqa: E402
 from structure_fem.structures import Structure  # noqa: E402
 from structure_fem.study import StudyInputs  # noqa: E402
