@@ -12,6 +12,10 @@ play per feature from the CAD's clearances. This module puts the finite-element 
   in the user cache (``~/.cache/voidcross/connector_fe/``) and in the packaged results
   (``structure_fem/data/connector_fe.json``, written by :func:`write_packaged_fe`). It never
   solves (a cold FE is 2-4 minutes): ``voidcross fem connectors`` computes a missing one.
+* :func:`fe_side_rail_for` and :func:`fe_top_twist_for` do the same for the CuBot's side rail and
+  twist key (:mod:`structure_fem.rail_key_fe`; ``python -m structure_fem.connector_sources``
+  computes missing ones and packages all three); :func:`planar_side_rail_for` and
+  :func:`planar_top_twist_for` use them where they exist, else the hand formulas (with a note).
 * :func:`resolve` returns the robot record the model then uses: the FE values (axial, pitch
   and shear stiffness) with ``provenance = "fe: <mesh, element, solver, cache key>"``, the play
   unchanged (the FE is of the bonded, play-free load path; the play is the CAD's), and a note
@@ -50,7 +54,7 @@ def cubot_for_record(robot: RobotProperties):
     """The parametric :class:`cubot_cad.cubot.CuBot` whose hand formula reproduces the record's
     front-rear coupling exactly, or ``(None, why not)``."""
     if robot.name != "cubot":
-        return None, "no FE model of this robot's couplings yet (only of the CuBot's front-rear one)"
+        return None, "no FE model of this robot's couplings yet (only of the CuBot's)"
     try:
         rec = robot.connector("front_rear")
     except Exception:  # noqa: BLE001 - a record without one
@@ -97,23 +101,66 @@ def packaged_fe() -> list[dict]:
     return data if isinstance(data, list) else []
 
 
-def lookup_fe(key: str, cache_dir=None):
-    """The FE result of ``key`` from the cache or the packaged results (None if neither has it)."""
+def lookup_fe(key: str, cache_dir=None, cls=None):
+    """The FE result of ``key`` from the cache or the packaged results (None if neither has it).
+    ``cls``: the result class (default :class:`~structure_fem.connector_fe.ConnectorFE`; the side rail's
+    and the twist key's are in :mod:`structure_fem.rail_key_fe`)."""
     from . import connector_fe as cfe
 
+    cls = cfe.ConnectorFE if cls is None else cls
     base = Path(cache_dir) if cache_dir is not None else cfe.default_cache_dir()
     f = base / f"{key}.json"
     if f.is_file():
         try:
             d = json.loads(f.read_text())
             if d.get("input_hash") == key:
-                return cfe.ConnectorFE.from_dict(d, cache_hit=True), "user cache"
+                return cls.from_dict(d, cache_hit=True), "user cache"
         except (OSError, ValueError, TypeError):
             pass
     for d in packaged_fe():
         if d.get("input_hash") == key:
-            return cfe.ConnectorFE.from_dict(d, cache_hit=True), f"packaged structure_fem/data/{PACKAGED_FE.name}"
+            try:
+                return cls.from_dict(d, cache_hit=True), f"packaged structure_fem/data/{PACKAGED_FE.name}"
+            except TypeError:
+                continue  # an entry of another kind under the same key (cannot happen: the model is hashed)
     return None, ""
+
+
+def _fe_rail_key(robot: RobotProperties, which: str, cache_dir=None, compute: bool = False):
+    """``(SideRailFE / TwistKeyFE or None, where it came from or why not)`` for the record's side rail
+    (``which="side_rail"``) or twist key (``"top_twist"``): the parametric CuBot that reproduces the
+    record (:func:`cubot_for_record`), the FE material of the record's modulus, the default mesh."""
+    from . import rail_key_fe as rk
+
+    what, why, _key = fe_key(robot)
+    if what is None:
+        return None, why
+    cub, mat, _settings = what
+    if which == "side_rail":
+        mesh = rk.FEMesh(rk.RAIL_SIZE_MM)
+        key = rk.rail_input_hash(rk.SideRailGeometry.from_cubot(cub), mat, mesh)
+        cls, run = rk.SideRailFE, (lambda: rk.side_rail_fe(cub, mat, mesh, cache_dir=cache_dir))
+    else:
+        mesh = rk.FEMesh(rk.KEY_SIZE_MM)
+        key = rk.key_input_hash(rk.TwistKeyGeometry.from_cubot(cub), mat, mesh)
+        cls, run = rk.TwistKeyFE, (lambda: rk.twist_key_fe(cub, mat, mesh, cache_dir=cache_dir))
+    fe, where = lookup_fe(key, cache_dir, cls)
+    if fe is not None:
+        return fe, where
+    if not compute:
+        return None, (f"no FE result for this {which.replace('_', ' ')} (key {key[:12]}) in the cache or the "
+                      "package: `python -m structure_fem.connector_sources` computes it (under a minute cold)")
+    return run(), "computed now (cached)"
+
+
+def fe_side_rail_for(robot: RobotProperties, cache_dir=None, compute: bool = False):
+    """``(SideRailFE or None, where it came from or why not)`` for the record's side rail."""
+    return _fe_rail_key(robot, "side_rail", cache_dir, compute)
+
+
+def fe_top_twist_for(robot: RobotProperties, cache_dir=None, compute: bool = False):
+    """``(TwistKeyFE or None, where it came from or why not)`` for the record's top twist key."""
+    return _fe_rail_key(robot, "top_twist", cache_dir, compute)
 
 
 def fe_front_rear_for(robot: RobotProperties, cache_dir=None, compute: bool = False):
@@ -164,16 +211,26 @@ def resolve(robot: RobotProperties, source: str = "fe", cache_dir=None,
             notes["front_rear"] = f"fe (result found in the {where})"
         elif any(c.kind == "front_rear" for c in robot.connectors):
             notes["front_rear"] = f"record (hand formula): {where}"
-        key, why_key = planar_top_twist_for(record)
+        key, why_key = planar_top_twist_for(record, cache_dir)
         if key is not None:
             robot = _swap(robot, key)
-            notes["top_twist"] = "record's key arms (vertical, pitch); horizontal: the key stem (planar_top_twist_for)"
+            if key.provenance.startswith("fe: "):
+                notes["top_twist"] = (f"fe (result found in the {why_key}): horizontal = the key stem in the roof, "
+                                      "vertical and pitch = the key arms under the roof (planar_top_twist_for)")
+            else:
+                notes["top_twist"] = ("record's key arms (vertical, pitch); horizontal: the key stem "
+                                      f"(planar_top_twist_for; {why_key})")
         elif any(c.kind == "top_twist" for c in robot.connectors):
             notes["top_twist"] = f"record (horizontal = the arms' vertical value): {why_key}"
-        rail, why = planar_side_rail_for(record)
+        rail, why = planar_side_rail_for(record, cache_dir)
         if rail is not None:
             robot = _swap(robot, rail)
-            notes["side_rail"] = "record's rail lips, in pitch over the staggered overlap (planar_side_rail_for)"
+            if rail.provenance.startswith("fe: "):
+                notes["side_rail"] = (f"fe (result found in the {why}): rail lips + tongue per length, in pitch over "
+                                      "the staggered overlap (planar_side_rail_for)")
+            else:
+                notes["side_rail"] = ("record's rail lips, in pitch over the staggered overlap "
+                                      f"(planar_side_rail_for; {why})")
         elif any(c.kind == "side_rail" for c in robot.connectors):
             notes["side_rail"] = f"record (roll about the rail's axis): {why}"
     if measured is not None:
@@ -186,7 +243,7 @@ def resolve(robot: RobotProperties, source: str = "fe", cache_dir=None,
 
 
 def rail_in_pitch(rec: ConnectorProperties, rail_length_m: float, overlap_m: float,
-                  aligned_overlap_m: float | None = None) -> ConnectorProperties:
+                  aligned_overlap_m: float | None = None, fe=None) -> ConnectorProperties:
     """The side rail as the planar model needs it: in **pitch** (the two lines' bodies turning
     relative to each other about the horizontal axis across the structure) over the length
     ``overlap_m`` the two rails actually engage, instead of about the rail's own axis (roll).
@@ -198,10 +255,15 @@ def rail_in_pitch(rec: ConnectorProperties, rail_length_m: float, overlap_m: flo
     tongue's vertical play ``d`` between the flanks (``rail_vertical``, the CAD's clearance)
     lets the coupling turn by ``2 d / l`` before both ends of the overlap bear. Along the rail
     (x) the record's value is kept. The model's rectangle ``|z| <= d``, ``|theta| <= 2 d / l``
-    contains the true free region ``|z| + |theta| l / 2 <= d`` (its corners are looser)."""
+    contains the true free region ``|z| + |theta| l / 2 <= d`` (its corners are looser).
+
+    ``fe``: a :class:`structure_fem.rail_key_fe.SideRailFE`: its ``q`` (FE of the rail slice: lips +
+    tongue) in place of the record's, with ``provenance = "fe: ..."``; the rest as above."""
     if not (rail_length_m > 0 and 0 < overlap_m <= rail_length_m + 1e-12):
         raise InputError(f"side rail overlap {overlap_m:g} m outside (0, rail length {rail_length_m:g} m]")
-    q = rec.axial_stiffness_n_per_m / rail_length_m
+    q = rec.axial_stiffness_n_per_m / rail_length_m if fe is None else fe.q_n_per_m_per_m
+    if not (math.isfinite(q) and q > 0):
+        raise InputError(f"side rail stiffness per length {q!r} N/m per m must be > 0")
     pl = rec.play_of("rail_vertical")
     d = 0.0 if pl is None else pl.play_m
     k_pitch = q * overlap_m ** 3 / 12
@@ -209,6 +271,14 @@ def rail_in_pitch(rec: ConnectorProperties, rail_length_m: float, overlap_m: flo
     if aligned_overlap_m is not None:
         extra = (f"; aligned lines overlap {aligned_overlap_m * 1e3:.4g} mm (k_pitch {q * aligned_overlap_m ** 3 / 12:.4g} "
                  "N m/rad) but merge into one planar body: no rail coupling in the model")
+    if fe is not None:
+        return replace(rec, rotational_stiffness_nm_per_rad=k_pitch, shear_stiffness_n_per_m=q * overlap_m,
+                       backlash_rad=2 * d / overlap_m,
+                       provenance=(f"{fe_provenance(fe)}; rail in pitch over the {overlap_m * 1e3:.4g} mm staggered "
+                                   f"overlap: k_z = q l = {q * overlap_m:.4g} N/m, k_pitch = q l^3 / 12 = "
+                                   f"{k_pitch:.4g} N m/rad (hand formula's q {rec.axial_stiffness_n_per_m / rail_length_m:.4g}"
+                                   f" N/m per m), pitch play = 2 x {d * 1e3:.3g} mm (rail_vertical, CAD) / l; along "
+                                   f"the rail the record's {rec.axial_stiffness_n_per_m:.4g} N/m" + extra))
     return replace(rec, rotational_stiffness_nm_per_rad=k_pitch, shear_stiffness_n_per_m=q * overlap_m,
                    backlash_rad=2 * d / overlap_m,
                    provenance=(f"hand formula: rail in pitch over the {overlap_m * 1e3:.4g} mm staggered overlap "
@@ -219,11 +289,14 @@ def rail_in_pitch(rec: ConnectorProperties, rail_length_m: float, overlap_m: flo
                                f"the record's {rec.axial_stiffness_n_per_m:.4g} N/m" + extra))
 
 
-def planar_side_rail_for(robot: RobotProperties):
+def planar_side_rail_for(robot: RobotProperties, cache_dir=None):
     """``(ConnectorProperties or None, why not)``: the record's side rail in pitch over the
     staggered overlap (:func:`rail_in_pitch`), for a record whose couplings are the parametric
     CuBot's hand formulas (:func:`cubot_for_record`: its rail length is the CAD's); the overlap
-    is the rail length less half a pitch (robot length + docked gap)."""
+    is the rail length less half a pitch (robot length + docked gap). Where the FE of the rail
+    (:func:`fe_side_rail_for`) exists for the record's geometry, its ``q`` is used (``provenance
+    "fe: ..."``) and the second element says where it was found; else the hand formula's, and the
+    second element says why (an empty string when nothing is amiss)."""
     if not any(c.kind == "side_rail" for c in robot.connectors):
         return None, "the record has no side rail"
     cub, why = cubot_for_record(robot)
@@ -239,7 +312,8 @@ def planar_side_rail_for(robot: RobotProperties):
     overlap = length - pitch / 2
     if overlap <= 0:
         return None, f"staggered rails ({length * 1e3:g} mm) do not overlap at half a {pitch * 1e3:g} mm pitch"
-    return rail_in_pitch(rec, length, overlap, aligned_overlap_m=length), ""
+    fe, where = fe_side_rail_for(robot, cache_dir)
+    return rail_in_pitch(rec, length, overlap, aligned_overlap_m=length, fe=fe), where
 
 
 #: Poisson's ratio of printed ABS/PLA for the key stem's shear (assumption, as connector_fe's).
@@ -267,7 +341,7 @@ def key_horizontal_stiffness(youngs_modulus_pa: float, stem_od_m: float, bore_m:
     return 1.0 / (1.0 / k_bend + 1.0 / k_shear)
 
 
-def planar_top_twist_for(robot: RobotProperties):
+def planar_top_twist_for(robot: RobotProperties, cache_dir=None):
     """``(ConnectorProperties or None, why not)``: the record's top twist key with its own
     horizontal stiffness (:func:`key_horizontal_stiffness`) along x instead of the arms' vertical
     bending value, which stays the vertical (z, ``shear_stiffness_n_per_m``) one; for a record
@@ -276,7 +350,12 @@ def planar_top_twist_for(robot: RobotProperties):
     Geometry (docked, :class:`cubot_cad.connectors.TopTwistSpec`, :class:`cubot_cad.twist.TwistKey`):
     the stem is ``arm_width_mm`` across with the IR bore ``ir_bore_mm``; it hangs from the thrust
     disc (its bottom ``disc_z_mm[0]`` below the upper robot's underside) to the collar roof, whose
-    centre is ``stand_mm - roof_under_mm - roof_mm / 2`` below that underside."""
+    centre is ``stand_mm - roof_under_mm - roof_mm / 2`` below that underside.
+
+    Where the FE of the key (:func:`fe_top_twist_for`) exists for the record's geometry, its
+    horizontal, vertical and pitch stiffness are used (``provenance "fe: ..."``; the play stays the
+    CAD's) and the second element says where it was found; else the hand formulas above, and the
+    second element says why there is no FE."""
     if not any(c.kind == "top_twist" for c in robot.connectors):
         return None, "the record has no top twist key"
     cub, why = cubot_for_record(robot)
@@ -297,12 +376,21 @@ def planar_top_twist_for(robot: RobotProperties):
     od, bore = s.arm_width_mm * 1e-3, s.ir_bore_mm * 1e-3
     k_h = key_horizontal_stiffness(robot.youngs_modulus_pa, od, bore, lever)
     k_v = rec.shear_stiffness_n_per_m or rec.axial_stiffness_n_per_m
+    fe, where = fe_top_twist_for(robot, cache_dir)
+    if fe is not None:
+        return replace(rec, axial_stiffness_n_per_m=fe.horizontal_stiffness_n_per_m,
+                       shear_stiffness_n_per_m=fe.vertical_stiffness_n_per_m,
+                       rotational_stiffness_nm_per_rad=fe.rotational_stiffness_nm_per_rad,
+                       provenance=(f"{fe_provenance(fe)}; horizontal (x) {fe.horizontal_stiffness_n_per_m:.4g} N/m "
+                                   f"(hand formula {k_h:.4g}), vertical (z) {fe.vertical_stiffness_n_per_m:.4g} N/m "
+                                   f"(hand {k_v:.4g}), pitch {fe.rotational_stiffness_nm_per_rad:.4g} N m/rad (hand "
+                                   f"{rec.rotational_stiffness_nm_per_rad:.4g}); play: the CAD's")), where
     return replace(rec, axial_stiffness_n_per_m=k_h, shear_stiffness_n_per_m=k_v, provenance=(
         f"hand formula: horizontal (x) = the key stem ({od * 1e3:g} mm tube, {bore * 1e3:g} mm IR bore) as a "
         f"cantilever from the thrust disc to the collar roof's centre ({lever * 1e3:.3g} mm), bending 3 E I / L^3 in "
         f"series with shear kappa G A / L (kappa {KEY_SHEAR_COEFFICIENT:g}, nu {KEY_POISSON:g}: assumptions; floor "
         f"and shaft bearing rigid) = {k_h:.4g} N/m; vertical (z) and pitch = the record's four key arms as "
-        f"cantilevers E w t^3 / 4 L^3 under the collar roof ({k_v:.4g} N/m)")), ""
+        f"cantilevers E w t^3 / 4 L^3 under the collar roof ({k_v:.4g} N/m)")), where
 
 
 def _swap(robot: RobotProperties, c: ConnectorProperties) -> RobotProperties:
@@ -383,15 +471,19 @@ def fit_moment_rotation(points, where: str) -> tuple[float, float, int]:
 
 
 def write_packaged_fe(cache_dir=None) -> Path:
-    """Copy the FE result that applies to the packaged CuBot record (from the cache, computing it
-    if missing) into ``structure_fem/data/connector_fe.json``."""
+    """Copy the FE results that apply to the packaged CuBot record (front-rear, side rail, twist key;
+    from the cache, computing any that is missing) into ``structure_fem/data/connector_fe.json``."""
     from cubot_cad.properties import default_properties
 
     robot = default_properties().get("cubot")
-    fe, where = fe_front_rear_for(robot, cache_dir, compute=True)
-    if fe is None:
-        raise InputError(f"no FE result applies to the packaged CuBot record: {where}")
-    entries = [d for d in packaged_fe() if d.get("input_hash") != fe.input_hash] + [fe.to_dict()]
+    results = []
+    for find in (fe_front_rear_for, fe_side_rail_for, fe_top_twist_for):
+        fe, where = find(robot, cache_dir, compute=True)
+        if fe is None:
+            raise InputError(f"no FE result applies to the packaged CuBot record: {where}")
+        results.append(fe)
+    keys = {fe.input_hash for fe in results}
+    entries = [d for d in packaged_fe() if d.get("input_hash") not in keys] + [fe.to_dict() for fe in results]
     PACKAGED_FE.write_text(json.dumps(entries, indent=1, sort_keys=True) + "\n")
     return PACKAGED_FE
 

@@ -30,9 +30,29 @@ def test_pitch_stiffness_and_play_follow_the_overlap(cubot):
             cs.rail_in_pitch(rec, 0.08, bad)
 
 
-def test_the_fe_source_puts_the_packaged_cubot_rail_in_pitch_over_30_mm(cubot):
+@pytest.fixture
+def no_fe(monkeypatch, tmp_path):
+    """No FE result of the rail or the key anywhere (an empty cache, nothing packaged): the hand formulas."""
+    monkeypatch.setattr(cs, "packaged_fe", lambda: [])
+    return tmp_path
+
+
+def test_with_the_packaged_fe_the_rail_in_pitch_uses_the_fe_q(cubot, tmp_path):
+    """Since the side rail's FE is packaged (issue 12; tests/structure_fem/test_coupling_fe_rail_key.py):
+    the same pitch formulas with the FE's q, ``provenance "fe: ..."``."""
     rec = cubot.connector("side_rail")
-    robot, notes = cs.resolve(cubot, "fe")
+    robot, notes = cs.resolve(cubot, "fe", cache_dir=tmp_path)
+    rail = robot.connector("side_rail")
+    fe, _ = cs.fe_side_rail_for(cubot, cache_dir=tmp_path)
+    assert rail == cs.rail_in_pitch(rec, 0.08, 0.03, aligned_overlap_m=0.08, fe=fe)
+    assert rail.provenance.startswith("fe: ") and "pitch over the 30 mm staggered overlap" in rail.provenance
+    assert "pitch over the staggered overlap" in notes["side_rail"]
+
+
+def test_the_fe_source_puts_the_packaged_cubot_rail_in_pitch_over_30_mm(cubot, no_fe):
+    """Without an FE result: the record's hand formula (the expectation before the rail's FE was packaged)."""
+    rec = cubot.connector("side_rail")
+    robot, notes = cs.resolve(cubot, "fe", cache_dir=no_fe)
     rail = robot.connector("side_rail")
     # CAD: 80 mm rails, staggered by half a 100 mm pitch: 30 mm engaged (aligned: 80 mm, merged bodies)
     want = cs.rail_in_pitch(rec, 0.08, 0.03)
@@ -44,16 +64,17 @@ def test_the_fe_source_puts_the_packaged_cubot_rail_in_pitch_over_30_mm(cubot):
     assert cs.resolve(cubot, "properties")[0].connector("side_rail") == rec
     # a rail that is not the parametric CuBot's hand formula is left as it is, and the note says why
     edited = cubot.with_connector(replace(rec, axial_stiffness_n_per_m=2 * rec.axial_stiffness_n_per_m))
-    robot2, notes2 = cs.resolve(edited, "fe")
+    robot2, notes2 = cs.resolve(edited, "fe", cache_dir=no_fe)
     assert robot2.connector("side_rail") == edited.connector("side_rail")
     assert "not the parametric CuBot" in notes2["side_rail"]
 
 
-def test_the_twist_key_gets_its_own_horizontal_stiffness(cubot):
+def test_the_twist_key_gets_its_own_horizontal_stiffness(cubot, no_fe):
     """Horizontal (x) from the key stem, not the arms' vertical bending value; vertical (z) and
-    pitch stay the arms'. A thicker stem is stiffer; shear is in series with bending."""
+    pitch stay the arms'. A thicker stem is stiffer; shear is in series with bending. (Without an
+    FE result of the key: with the packaged one, see test_coupling_fe_rail_key.py.)"""
     rec = cubot.connector("top_twist")
-    key = cs.resolve(cubot, "fe")[0].connector("top_twist")
+    key = cs.resolve(cubot, "fe", cache_dir=no_fe)[0].connector("top_twist")
     assert key.shear_stiffness_n_per_m == rec.axial_stiffness_n_per_m  # the arms' vertical value, now along z
     assert key.rotational_stiffness_nm_per_rad == rec.rotational_stiffness_nm_per_rad
     assert key.axial_stiffness_n_per_m != rec.axial_stiffness_n_per_m
@@ -77,5 +98,5 @@ def test_the_twist_key_gets_its_own_horizontal_stiffness(cubot):
     from structure_fem.connectors import ConnectorSet
     from structure_fem.piers import pier_stiffness
 
-    robot = cs.resolve(cubot, "fe")[0]
+    robot = cs.resolve(cubot, "fe", cache_dir=no_fe)[0]
     assert pier_stiffness(robot, ConnectorSet.from_robot(robot), 2).key_n_per_m == rec.axial_stiffness_n_per_m

@@ -1,0 +1,131 @@
+"""FE of the CuBot's side rail and top twist key from the CAD's dimensions (issue 12, deliverable 1):
+the FE against a closed form, mesh refinement, the parametric CAD's trend, and resolve() using it.
+
+Kept fast: coarse meshes and short slices where a solve is needed; the packaged results otherwise."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+
+import pytest
+
+pytest.importorskip("skfem")
+pytest.importorskip("gmsh")
+
+from cubot_cad.connectors import RailSpec, TopTwistSpec  # noqa: E402
+from cubot_cad.couplings import cantilever_k  # noqa: E402
+from cubot_cad.cubot import CuBot  # noqa: E402
+from structure_fem import connector_sources as cs  # noqa: E402
+from structure_fem import rail_key_fe as rk  # noqa: E402
+from structure_fem.connector_fe import Material  # noqa: E402
+
+ABS = Material.from_cubot_cad("abs")
+COARSE_RAIL = rk.FEMesh(2.0)
+SHORT = 8.0  # mm: a short rail slice for the solves in these tests
+
+
+def test_a_clamped_strip_under_a_tip_line_load_is_the_cantilever_formula():
+    """The groove lip of the hand formula: E w t^3 / (4 L^3) (a slender strip, so shear is < 1 %)."""
+    L, t, w = 20.0, 2.0, 3.0
+    k = rk.strip_cantilever_fe(L, t, w, ABS.E_pa, ABS.poisson, rk.FEMesh(1.0))
+    assert k == pytest.approx(cantilever_k(ABS.E_pa, w, t, L), rel=0.05)
+
+
+def test_rail_mesh_refinement_changes_q_by_under_5_percent():
+    g = rk.SideRailGeometry.from_cubot(slice_mm=SHORT)
+    a = rk.compute_side_rail(g, ABS, rk.FEMesh(2.0))
+    b = rk.compute_side_rail(g, ABS, rk.FEMesh(1.4))  # (the wall bracket at h >= 2 mm in both)
+    assert b.q_n_per_m_per_m == pytest.approx(a.q_n_per_m_per_m, rel=0.05)
+    assert b.inputs["n_dofs"] > 1.5 * a.inputs["n_dofs"]
+    # the halves in series, each softer than neither
+    assert b.q_n_per_m_per_m < min(b.male_q_n_per_m_per_m, b.female_q_n_per_m_per_m)
+    assert b.provenance.startswith("fe: scikit-fem P2 tetra, gmsh h=1.4 mm")
+    # the side walls' strips behind the halves (the bracket, not used by the model): much softer
+    assert b.with_walls["q_n_per_m_per_m"] < 0.2 * b.q_n_per_m_per_m
+    assert b.with_walls["q_n_per_m_per_m"] == pytest.approx(a.with_walls["q_n_per_m_per_m"], rel=0.05)
+
+
+def test_thicker_groove_lips_give_a_stiffer_rail():
+    """The female's lips (the rail's material beside the groove, ``height / 2`` less the groove's
+    half-width) 2 mm thicker each: a 28 mm rail instead of 24 mm, same groove and tongue."""
+    base = rk.compute_side_rail(rk.SideRailGeometry.from_cubot(slice_mm=SHORT), ABS, COARSE_RAIL)
+    thick = CuBot(rail=RailSpec(height_mm=28.0))
+    k = rk.compute_side_rail(rk.SideRailGeometry.from_cubot(thick, slice_mm=SHORT), ABS, COARSE_RAIL)
+    assert k.female_q_n_per_m_per_m > 1.2 * base.female_q_n_per_m_per_m
+    assert k.q_n_per_m_per_m > 1.1 * base.q_n_per_m_per_m
+    assert k.input_hash != base.input_hash
+
+
+def test_a_wider_key_stem_gives_a_stiffer_key_and_the_mesh_is_converged(tmp_path):
+    mesh = rk.FEMesh(2.4, curvature_elements=12)
+    base = rk.compute_twist_key(rk.TwistKeyGeometry.from_cubot(), ABS, mesh)
+    wide = CuBot(top=TopTwistSpec(arm_width_mm=9.0, stand_mm=15.0))
+    k = rk.compute_twist_key(rk.TwistKeyGeometry.from_cubot(wide), ABS, mesh)
+    assert k.horizontal_stiffness_n_per_m > 1.1 * base.horizontal_stiffness_n_per_m
+    assert k.vertical_stiffness_n_per_m > base.vertical_stiffness_n_per_m
+    # the packaged result (h 1.5 mm) against this coarse one: under 5 % apart
+    from cubot_cad.properties import default_properties
+
+    fe, where = cs.fe_top_twist_for(default_properties().get("cubot"), cache_dir=tmp_path)
+    assert fe is not None and where.startswith("packaged")
+    for f in ("horizontal_stiffness_n_per_m", "vertical_stiffness_n_per_m", "rotational_stiffness_nm_per_rad"):
+        assert getattr(base, f) == pytest.approx(getattr(fe, f), rel=0.05), f
+
+
+def test_resolve_uses_the_fe_of_the_rail_and_the_key_with_fe_provenance(cubot, tmp_path):
+    """The packaged results (an empty cache directory, so the package answers)."""
+    robot, notes = cs.resolve(cubot, "fe", cache_dir=tmp_path)
+    rail, key = robot.connector("side_rail"), robot.connector("top_twist")
+    fr_fe, where = cs.fe_side_rail_for(cubot, cache_dir=tmp_path)
+    key_fe, _ = cs.fe_top_twist_for(cubot, cache_dir=tmp_path)
+    assert where.startswith("packaged")
+    assert rail.provenance.startswith("fe: ") and fr_fe.input_hash[:16] in rail.provenance
+    assert key.provenance.startswith("fe: ") and key_fe.input_hash[:16] in key.provenance
+    assert notes["side_rail"].startswith("fe (") and notes["top_twist"].startswith("fe (")
+    # the rail: q from the FE, k_z = q l and k_pitch = q l^3 / 12 over the 30 mm overlap, play the CAD's
+    rec = cubot.connector("side_rail")
+    q, ov = fr_fe.q_n_per_m_per_m, 0.03
+    assert rail.shear_stiffness_n_per_m == pytest.approx(q * ov, rel=1e-12)
+    assert rail.rotational_stiffness_nm_per_rad == pytest.approx(q * ov ** 3 / 12, rel=1e-12)
+    assert rail.backlash_rad == pytest.approx(2 * rec.play_of("rail_vertical").play_m / ov, rel=1e-12)
+    assert rail.play == rec.play and rail.axial_stiffness_n_per_m == rec.axial_stiffness_n_per_m
+    # the key: horizontal, vertical and pitch from the FE, play the CAD's
+    krec = cubot.connector("top_twist")
+    assert key.axial_stiffness_n_per_m == key_fe.horizontal_stiffness_n_per_m
+    assert key.shear_stiffness_n_per_m == key_fe.vertical_stiffness_n_per_m
+    assert key.rotational_stiffness_nm_per_rad == key_fe.rotational_stiffness_nm_per_rad
+    assert key.play == krec.play and key.backlash_rad == krec.backlash_rad
+    # a pier's key (vertical) is then the FE's pull-out stiffness
+    from structure_fem.connectors import ConnectorSet
+    from structure_fem.piers import pier_stiffness
+
+    assert pier_stiffness(robot, ConnectorSet.from_robot(robot), 2).key_n_per_m == key_fe.vertical_stiffness_n_per_m
+    # the record mode keeps the hand formulas
+    plain = cs.resolve(cubot, "properties", cache_dir=tmp_path)[0]
+    assert plain.connector("side_rail") == rec and plain.connector("top_twist") == krec
+
+
+def test_a_cache_entry_under_the_records_key_wins_and_a_missing_fe_leaves_the_hand_formula(cubot, tmp_path,
+                                                                                          monkeypatch):
+    fe, _ = cs.fe_side_rail_for(cubot, cache_dir=tmp_path / "empty")
+    (tmp_path / f"{fe.input_hash}.json").write_text(json.dumps(dict(fe.to_dict(), q_n_per_m_per_m=1.0e8)))
+    rail = cs.resolve(cubot, "fe", cache_dir=tmp_path)[0].connector("side_rail")
+    assert rail.shear_stiffness_n_per_m == pytest.approx(1.0e8 * 0.03, rel=1e-12)
+    # no packaged and no cached result: the hand formulas stay, and the notes say why
+    monkeypatch.setattr(cs, "packaged_fe", lambda: [])
+    robot, notes = cs.resolve(cubot, "fe", cache_dir=tmp_path / "empty")
+    assert robot.connector("side_rail").provenance.startswith("hand formula: rail in pitch")
+    assert robot.connector("top_twist").provenance.startswith("hand formula: horizontal (x) = the key stem")
+    assert "no FE result for this side rail" in notes["side_rail"]
+    assert "no FE result for this top twist" in notes["top_twist"]
+
+
+def test_the_fe_key_follows_the_geometry():
+    a = rk.rail_input_hash(rk.SideRailGeometry.from_cubot(), ABS, rk.FEMesh(rk.RAIL_SIZE_MM))
+    b = rk.rail_input_hash(rk.SideRailGeometry.from_cubot(CuBot(clearance_mm=0.3)), ABS, rk.FEMesh(rk.RAIL_SIZE_MM))
+    c = rk.key_input_hash(rk.TwistKeyGeometry.from_cubot(CuBot(clearance_mm=0.3)), ABS, rk.FEMesh(rk.KEY_SIZE_MM))
+    assert len({a, b, c}) == 3
+    g = rk.SideRailGeometry.from_cubot()
+    with pytest.raises(cs.InputError, match="slice_mm"):
+        replace(g, slice_mm=0.0).check()
