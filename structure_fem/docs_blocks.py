@@ -116,7 +116,41 @@ def _piers() -> str:
             + "\n".join(rows) + f"\n\nThe rule's notes: {r.notes}\n")
 
 
-BLOCKS = {"thresholds": _thresholds, "connectors": _connectors, "calibration": _calibration, "piers": _piers}
+def _dynamics() -> str:
+    from structure_fem.dynamics_cache import PACKAGED
+    from structure_fem.limits import load_limits
+    import json
+
+    d = load_limits("derived")
+    rows = ["| level | threshold (widths) | static tip at it (mm) | launch allowance (mm) | tip + allowance (mm) | "
+            "clearance (mm) |", "|---|---|---|---|---|---|"]
+    for lv in d.levels:
+        a = lv.dynamic_allowance_mm
+        tip = lv.max_deflection_mm
+        tot = f"{tip + a:.2f}" if a is not None and tip is not None else "-"
+        rows.append(f"| {lv.name} | {lv.max_span_widths} | {tip:.2f} | {'-' if a is None else f'{a:.2f}'} | {tot} | "
+                    f"{d.clearance_mm:g} |" if tip is not None else f"| {lv.name} | {lv.max_span_widths} | - | - | - | "
+                    f"{d.clearance_mm:g} |")
+    try:
+        entries = json.loads(PACKAGED.read_text())
+    except (OSError, ValueError):
+        entries = []
+    by: dict[str, list] = {}
+    for e in entries if isinstance(entries, list) else []:
+        by.setdefault(e.get("structure", "?"), []).append(e)
+    tr = ["| structure | bodies | width (robot widths): allowance (mm) |", "|---|---|---|"]
+    for name in sorted(by):
+        es = sorted(by[name], key=lambda e: e["width"])
+        bodies = ", ".join(sorted({"flexible" if e.get("flexible") else "rigid" for e in es}))
+        tr.append(f"| {name} | {bodies} | " + ", ".join(f"{e['width']:g}: {1e3 * e['allowance_m']:.2f}" for e in es)
+                  + " |")
+    return (f"From the packaged `limits.json` (`{d.robot}`, {d.clearance_mm:g} mm clearance) and the "
+            f"packaged transients (`structure_fem/data/{PACKAGED.name}`, {len(entries)} integrations):\n\n"
+            + "\n".join(rows) + "\n\nThe transients integrated (the larger overshoot of the support loss and the "
+            "docking push, per width):\n\n" + "\n".join(tr) + "\n")
+
+
+BLOCKS = {"thresholds": _thresholds, "dynamics": _dynamics, "connectors": _connectors, "calibration": _calibration, "piers": _piers}
 
 
 def render(text: str) -> str:

@@ -4,10 +4,29 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
+import tempfile
 
 import pytest
 
 from voidcross.cli import main
+
+
+def pytest_configure(config):
+    """One fresh user cache per test session (solves, launch allowances): tests never read a
+    developer's cache (a stale entry would hide a regression) nor write into it, yet share the
+    solves they repeat. Set through ``os.environ`` so CLI subprocesses inherit it."""
+    if os.environ.get("VOIDCROSS_TEST_KEEP_CACHE"):
+        return
+    d = tempfile.mkdtemp(prefix="voidcross-test-cache-")
+    config._voidcross_cache = d
+    os.environ["XDG_CACHE_HOME"] = d
+
+
+def pytest_unconfigure(config):
+    d = getattr(config, "_voidcross_cache", None)
+    if d:
+        shutil.rmtree(d, ignore_errors=True)
 
 
 class CliResult:
