@@ -14,7 +14,9 @@ gives every cell its path length to the goal and the next cell towards it, so:
 
 Cell size is a third of the robot's smaller side (see :data:`MAX_CELLS`). The grid of a world is built once
 (:func:`nav_grid`, cached); a field is cached by its goal cell and the structure's
-footprint, so the robots recruited for one row share the work.
+footprint, so the robots recruited for one row share the work, and by its contents (goal
+point and closed cells), so a later recruitment that closes the same cells under another
+name reuses the search already settled (:mod:`swarm_sim.field_cache`).
 
 A field is settled lazily (:class:`CostField`): the search from the goal stops as soon as the
 question asked (which free robot is nearest, where this robot drives next) has its final
@@ -38,6 +40,7 @@ from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from .dijkstra import csr_pair, dijkstra_start
+from .field_cache import FieldCache, contents_key
 from .grid import HAVE_NUMBA
 from .world import World
 
@@ -85,7 +88,8 @@ class NavGrid:
 
 
 _GRIDS: OrderedDict = OrderedDict()
-_FIELDS: OrderedDict = OrderedDict()
+#: the cost fields made so far, by name and by contents (64 named, LRU)
+_FIELDS = FieldCache(64)
 
 
 def _world_key(world: World) -> tuple:
@@ -374,10 +378,11 @@ def cost_field(world: World, goal_x: float, goal_y: float, blocked=None, blocked
     :func:`approach_point` may sit closer to a wall than the grid's clearance)."""
     grid = nav_grid(world)
     gc = grid.cell(goal_x, goal_y)
-    key = (_world_key(world), gc, round(goal_x, 6), round(goal_y, 6), blocked_key)
-    f = _FIELDS.get(key)
+    wk = _world_key(world)
+    key = (wk, gc, round(goal_x, 6), round(goal_y, 6), blocked_key)
+    cache = _FIELDS
+    f = cache.named(key)
     if f is not None:
-        _FIELDS.move_to_end(key)
         return f
     n = grid.nx * grid.ny
     closed = ~grid.free.copy()
@@ -386,6 +391,10 @@ def cost_field(world: World, goal_x: float, goal_y: float, blocked=None, blocked
     if blocked is not None:
         closed |= blocked
     closed[gc] = False
+    ckey = contents_key(wk, gc, goal_x, goal_y, closed)
+    f = cache.by_contents(ckey)
+    if f is not None:  # the same cells closed under another name: the same field
+        return cache.put(key, ckey, f, built=False)
     # the goal cell joins its open neighbours even when the static grid calls it blocked
     extra_j, extra_w = _goal_edges(grid, gc, closed)
     if HAVE_NUMBA:  # the same search compiled (swarm_sim.dijkstra: scipy's answer bit for bit), lazily
@@ -396,7 +405,7 @@ def cost_field(world: World, goal_x: float, goal_y: float, blocked=None, blocked
             f.settle(0.0)
         else:
             f.settle(math.inf)
-        return _cache_field(key, f)
+        return cache.put(key, ckey, f)
     w = grid.ew + _BLOCK_W * (closed[grid.ei] | closed[grid.ej])
     ei = np.concatenate([grid.ei, np.full(len(extra_j), gc, dtype=np.int64)])
     ej = np.concatenate([grid.ej, extra_j])
@@ -404,7 +413,7 @@ def cost_field(world: World, goal_x: float, goal_y: float, blocked=None, blocked
     graph = csr_matrix((ww, (ei, ej)), shape=(n, n))
     cost, pred = dijkstra(graph, directed=False, indices=gc, return_predecessors=True, limit=BLOCKED)
     cost = np.where(np.isfinite(cost), cost, np.inf)
-    return _cache_field(key, CostField(grid, float(goal_x), float(goal_y), gc, cost, pred.astype(np.int64), closed))
+    return cache.put(key, ckey, CostField(grid, float(goal_x), float(goal_y), gc, cost, pred.astype(np.int64), closed))
 
 
 def _goal_edges(grid: NavGrid, gc: int, closed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -422,9 +431,3 @@ def _goal_edges(grid: NavGrid, gc: int, closed: np.ndarray) -> tuple[np.ndarray,
                 lengths.append(math.hypot(di, dj) * grid.cell_cm)
     return np.array(cells, dtype=np.int64), np.array(lengths, dtype=float)
 
-
-def _cache_field(key, f: CostField) -> CostField:
-    _FIELDS[key] = f
-    while len(_FIELDS) > 64:
-        _FIELDS.popitem(last=False)
-    return f
