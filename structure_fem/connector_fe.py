@@ -258,8 +258,22 @@ def _bearing_selector(geom: FrontRearGeometry, y, z):
 
 # --- the result -----------------------------------------------------------------------------
 
+class FEResult:
+    """What every FE result record shares (dataclasses with a ``cache_hit`` field): JSON without
+    ``cache_hit``, and back (``cache_hit`` says whether it came from a cache or the package)."""
+
+    def to_dict(self) -> dict:
+        d = asdict(self)
+        d.pop("cache_hit")
+        return d
+
+    @classmethod
+    def from_dict(cls, d: dict, cache_hit: bool = False):
+        return cls(**d, cache_hit=cache_hit)
+
+
 @dataclass
-class ConnectorFE:
+class ConnectorFE(FEResult):
     """FE stiffnesses of one coupling (SI) and where they come from."""
 
     kind: str
@@ -276,15 +290,6 @@ class ConnectorFE:
     inputs: dict
     timings_s: dict = field(default_factory=dict)
     cache_hit: bool = False
-
-    def to_dict(self) -> dict:
-        d = asdict(self)
-        d.pop("cache_hit")
-        return d
-
-    @classmethod
-    def from_dict(cls, d: dict, cache_hit: bool = False) -> ConnectorFE:
-        return cls(**d, cache_hit=cache_hit)
 
 
 def _kilo(n: int) -> str:

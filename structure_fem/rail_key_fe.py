@@ -91,7 +91,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .connector_fe import Material, _kilo, default_cache_dir
+from .connector_fe import FEResult, Material, _kilo, default_cache_dir
 from .errors import InputError
 from .fe_solid import GmshSession, Load, gmsh_tet_mesh, solve_linear_elastic
 
@@ -263,7 +263,7 @@ def rail_half_compliance(geom: SideRailGeometry, half: str, mat: Material, mesh:
 
 
 @dataclass
-class SideRailFE:
+class SideRailFE(FEResult):
     """FE stiffness of the side rail per metre of engagement (SI) and where it comes from."""
 
     kind: str
@@ -279,15 +279,6 @@ class SideRailFE:
     inputs: dict
     timings_s: dict = field(default_factory=dict)
     cache_hit: bool = False
-
-    def to_dict(self) -> dict:
-        d = asdict(self)
-        d.pop("cache_hit")
-        return d
-
-    @classmethod
-    def from_dict(cls, d: dict, cache_hit: bool = False) -> SideRailFE:
-        return cls(**d, cache_hit=cache_hit)
 
 
 def _hash(model: str, geom, mat: Material, mesh: FEMesh) -> str:
@@ -483,7 +474,7 @@ def _stem_band(geom: TwistKeyGeometry):
 
 
 @dataclass
-class TwistKeyFE:
+class TwistKeyFE(FEResult):
     """FE stiffness of the top twist key (SI) and where it comes from."""
 
     kind: str
@@ -497,15 +488,6 @@ class TwistKeyFE:
     inputs: dict
     timings_s: dict = field(default_factory=dict)
     cache_hit: bool = False
-
-    def to_dict(self) -> dict:
-        d = asdict(self)
-        d.pop("cache_hit")
-        return d
-
-    @classmethod
-    def from_dict(cls, d: dict, cache_hit: bool = False) -> TwistKeyFE:
-        return cls(**d, cache_hit=cache_hit)
 
 
 def key_input_hash(geom: TwistKeyGeometry, mat: Material, mesh: FEMesh) -> str:
