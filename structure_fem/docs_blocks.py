@@ -117,26 +117,22 @@ def _piers() -> str:
 
 
 def _dynamics() -> str:
-    from structure_fem.dynamics_cache import PACKAGED
+    from structure_fem.dynamics_cache import PACKAGED, packaged
     from structure_fem.limits import load_limits
-    import json
+
+    def mm(v) -> str:
+        return "-" if v is None else f"{v:.2f}"
 
     d = load_limits("derived")
     rows = ["| level | threshold (widths) | static tip at it (mm) | launch allowance (mm) | tip + allowance (mm) | "
             "clearance (mm) |", "|---|---|---|---|---|---|"]
     for lv in d.levels:
-        a = lv.dynamic_allowance_mm
-        tip = lv.max_deflection_mm
-        tot = f"{tip + a:.2f}" if a is not None and tip is not None else "-"
-        rows.append(f"| {lv.name} | {lv.max_span_widths} | {tip:.2f} | {'-' if a is None else f'{a:.2f}'} | {tot} | "
-                    f"{d.clearance_mm:g} |" if tip is not None else f"| {lv.name} | {lv.max_span_widths} | - | - | - | "
-                    f"{d.clearance_mm:g} |")
-    try:
-        entries = json.loads(PACKAGED.read_text())
-    except (OSError, ValueError):
-        entries = []
+        tip, a = lv.max_deflection_mm, lv.dynamic_allowance_mm
+        total = None if tip is None or a is None else tip + a
+        rows.append(f"| {lv.name} | {lv.max_span_widths} | {mm(tip)} | {mm(a)} | {mm(total)} | {d.clearance_mm:g} |")
+    entries = packaged()
     by: dict[str, list] = {}
-    for e in entries if isinstance(entries, list) else []:
+    for e in entries:
         by.setdefault(e.get("structure", "?"), []).append(e)
     tr = ["| structure | bodies | width (robot widths): allowance (mm) |", "|---|---|---|"]
     for name in sorted(by):
@@ -150,7 +146,8 @@ def _dynamics() -> str:
             "docking push, per width):\n\n" + "\n".join(tr) + "\n")
 
 
-BLOCKS = {"thresholds": _thresholds, "dynamics": _dynamics, "connectors": _connectors, "calibration": _calibration, "piers": _piers}
+BLOCKS = {"thresholds": _thresholds, "dynamics": _dynamics, "connectors": _connectors, "calibration": _calibration,
+          "piers": _piers}
 
 
 def render(text: str) -> str:

@@ -80,6 +80,12 @@ def _packaged() -> dict[str, dict]:
     return _PACKAGED
 
 
+def packaged() -> list[dict]:
+    """The packaged entries (valid ones only), by key."""
+    table = _packaged()
+    return [table[k] for k in sorted(table)]
+
+
 def _valid(v) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v >= 0
 
