@@ -7,8 +7,9 @@ arithmetic (same float operations, same order):
 
 * free robots walk: :func:`swarm_sim.explore._walk_kernel` itself, on a Verlet list from
   :func:`swarm_sim.grid.verlet_update` (exact whatever its history), with the step's
-  random numbers (``rng.random((4, k))`` per step, pre-drawn as ``(S, 4, k)``: the same
-  stream);
+  random numbers (the reference's ``rng.random((4, k))``, drawn in the kernel from the
+  generator's own PCG64 state by :mod:`swarm_sim.pcg64`: the same stream, nothing drawn
+  ahead);
 * the dispersal clocks count down;
 * the seed's alignment (turn, back off, creep to the edge), the structure's ``wait``, its
   ``advance``/``back`` slide with the members placed at
@@ -26,9 +27,9 @@ robot would be lost, an invariant could break, the time limit, ...) is computed 
 temporaries, not committed, and the kernel returns; the caller (``runner.simulate``) then
 runs that one step with the reference ``step()``. Threshold tests whose arithmetic is not
 literally the reference's (numpy vs scalar) stop *conservatively* (a small margin): a
-stop costs one reference step, never a difference. The random stream is rewound to where
-the reference would have left it (``bit_generator.state`` restored and the committed
-steps' numbers re-drawn).
+stop costs one reference step, never a difference. The uncommitted step's draws are
+undone (its stream words restored), so the generator is left where the reference would
+leave it; a generator whose bit generator is not PCG64 gets reference steps only.
 
 Three functions differ between Python and numba and are handled explicitly:
 ``math.hypot`` (CPython computes its own correctly rounded norm, numba calls libm:
@@ -55,6 +56,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from . import pcg64
 from .grid import HAVE_NUMBA, SKIN_CM, numba, workspace
 from .state import OPEN, WALKING_MODES, Mode, Phase
 
@@ -79,14 +81,14 @@ R_BATCH, R_SEED, R_GROW, R_WAIT, R_SLIDE_END, R_LEDGE, R_DOCK, R_RSTALL, R_WATCH
 #: conservative margin (cm) for threshold tests whose reference is numpy arithmetic (~200 ulps of a
 #: 3000 cm coordinate: far above a last-bit difference, far below the 1e-9 cm the edge tests allow)
 _MARGIN = 1e-10
-_MIN_BATCH, _MAX_BATCH = 256, 16384
-_MAX_DRAWS = 4_000_000  # random numbers pre-drawn per batch at most
+_MAX_BATCH = 16384  # steps per kernel call at most (it returns earlier when anything discrete happens)
 
 AVAILABLE = HAVE_NUMBA
 
 if HAVE_NUMBA:
     from .explore import _walk_kernel, _wrap
     from .grid import verlet_update
+    from .pcg64 import fill as pcg_fill
 
     @numba.njit(cache=True, inline="always")
     def _two_prod(x, y):  # pragma: no cover - compiled
@@ -322,7 +324,7 @@ if HAVE_NUMBA:
         return True
 
     @numba.njit(cache=True)
-    def _kernel(n_steps, t, dt, x, y, h, goal, run_left, disp, mode, carried, walkers, u, ws_k, ws_counts,
+    def _kernel(n_steps, t, dt, x, y, h, goal, run_left, disp, mode, carried, walkers, rw, ub, ws_k, ws_counts,
                 ws_fill, ws_bucket, ws_items, ws_sx, ws_sy, nbr_start, nbr_idx, xref, yref, valid,
                 wf, obs, obs_none, levy, flags, kind, sf, mem_ids, mem_slots, rec_ids, rec_f, rec_final,
                 f_cost, f_nxt, f_closed, f_goal_cell, grid_i, gcx, gcy, job, job_ids, job_f, j_cost, j_nxt,
@@ -368,6 +370,8 @@ if HAVE_NUMBA:
         sense = hl + q4 + detect + 1.0  # no ground sensor reaches farther from the centre (cm)
         for j in range(n_steps):
             tn = t + dt
+            w0 = rw[0]  # the stream's state at the step's start (pcg64 words: state hi, lo)
+            w1 = rw[1]
             # 1. detect_seed (search phase): an explorer's ground sensor sees the void
             if search and x0 < 1e300:
                 for i in range(n):
@@ -396,7 +400,10 @@ if HAVE_NUMBA:
                     return j, R_GROW, t, front, progress
                 for q in range(k):
                     straight[q] = disp[walkers[q]] > 0
-                _walk_kernel(x, y, h, goal, run_left, walkers, straight, u[j], True, hl, hw, W, H, x0, x1, obs, r,
+                # the step's 4 x k uniforms, drawn from the generator's own stream (rewound
+                # below if the step is not committed)
+                pcg_fill(rw, ub)
+                _walk_kernel(x, y, h, goal, run_left, walkers, straight, ub, True, hl, hw, W, H, x0, x1, obs, r,
                              detect, avoid, dist, turn_max, levy, mu, lmin, lmax, p_turn, turn_rad, bx, by,
                              nbr_start, nbr_idx)
             stop = R_BATCH
@@ -560,6 +567,8 @@ if HAVE_NUMBA:
                             stop = R_INV
                             break
             if stop != R_BATCH:  # not committed: undo the walk, the reference step does this one
+                rw[0] = w0  # and its draws (only the state words move; the increment is fixed)
+                rw[1] = w1
                 for i in range(n):
                     x[i] = bx[i]
                     y[i] = by[i]
@@ -734,7 +743,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
     cannot do the next one); returns (new state, steps advanced). The caller runs the next
     step with :func:`swarm_sim.step.step`. ``stats`` (optional dict) counts kernel calls,
     steps and stop reasons."""
-    if not AVAILABLE or world.shape != "square" or state.phase in _ENDED:
+    if not AVAILABLE or world.shape != "square" or state.phase in _ENDED or not pcg64.supported(rng):
         return state, 0
     kind = _kind(state, p, world, check)
     if kind is None:
@@ -828,43 +837,13 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
     t, front, progress = state.t_s, sf[1], sf[14]
     total = 0
     limit = max_steps if max_steps is not None else 1 << 62
-    # steps until something known ends (the kernel stops there): pre-draw no more than that
-    dt = p.dt_s
-    horizon = (p.max_time_s - state.t_s) / dt
-    if kind == K_WAIT:
-        horizon = min(horizon, (st.wait_until_s - state.t_s) / dt)
-    elif kind == K_SLIDE:
-        horizon = min(horizon, abs(st.goal_s_cm - st.front_s_cm) / (p.speed_cm_s * dt))
-    if state.phase == _P_WANDER:
-        horizon = min(horizon, (state.phase_since_s + p.wander_after_retreat_s - state.t_s) / dt)
-    if job == J_CLIMB:
-        horizon = min(horizon, (st.job_until_s - state.t_s) / dt)
-    guess = _MIN_BATCH
-    if job == J_DRIVE:  # as the recruits below: the longest remaining path
-        left = max((c for c in (f.cost_at(float(state.x_cm[r]), float(state.y_cm[r])) for f, r in
-                                zip(jfields, st.job, strict=True)) if math.isfinite(c)), default=0.0)
-        guess = int(1.2 * left / (p.speed_cm_s * dt)) + 64
-    if kind == K_RECRUIT:  # a recruit drives at most one step's length per step: its remaining path
-        left = 0.0
-        for (f, dxp, dyp), r in zip(fields, st.recruits, strict=True):
-            c = f.cost_at(float(state.x_cm[r]), float(state.y_cm[r])) + math.hypot(f.goal_x - dxp, f.goal_y - dyp)
-            left = max(left, c if math.isfinite(c) else 0.0)
-        guess = max(guess, int(1.2 * left / (p.speed_cm_s * dt)) + 64)
-    batch = int(min(_MAX_BATCH, max(1.0, horizon + 2.0))) if horizon < guess else min(guess, _MAX_BATCH)
     reason = R_BATCH
-    bg = rng.bit_generator
-    # PCG64 (default_rng) rewinds by jumping: one 64-bit draw per double (no buffered 32-bit draw used)
-    jump = type(bg) is np.random.PCG64
-    u_none = np.zeros((batch, 4, 0))
+    rw = pcg64.words(rng)  # the kernel draws the walk's uniforms from the stream itself
+    ub = np.empty((4, k))
     while total < limit:
-        S = int(min(batch, limit - total, max(1, _MAX_DRAWS // max(1, 4 * k))))
-        if k:
-            saved = bg.state
-            u = rng.random((S, 4, k))
-        else:
-            u = u_none if u_none.shape[0] >= S else np.zeros((S, 4, 0))
+        S = int(min(_MAX_BATCH, limit - total))
         j, reason, t, front, progress = _kernel(
-            S, t, p.dt_s, x, y, h, goal, run_left, disp, mode, carried, walkers, u, *ws[:7], *ws[7:], wf,
+            S, t, p.dt_s, x, y, h, goal, run_left, disp, mode, carried, walkers, rw, ub, *ws[:7], *ws[7:], wf,
             world.obstacles, obs_none, p.walk == "levy", flags, kind, sf, mem_ids, mem_slots, rec_ids,
             rec_f, rec_final, f_cost, f_nxt, f_closed, f_goal, grid_i, grid.cx, grid.cy, job, job_ids, job_f,
             j_cost, j_nxt, j_closed, j_goal)
@@ -874,13 +853,6 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
             why = STOP_REASONS[reason]
             stops = stats.setdefault("stops", {})
             stops[why] = stops.get(why, 0) + 1
-        if j < S and k:  # rewind the stream to the end of the last committed step
-            bg.state = saved
-            if j:
-                if jump and not saved["has_uint32"]:
-                    bg.advance(j * 4 * k)
-                else:
-                    rng.random((j, 4, k))
         if reason == R_FIELD:  # a recruit or foot robot reached cells its field has not settled yet
             if kind == K_RECRUIT:
                 for f, _, _ in fields:
@@ -895,9 +867,10 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
         elif reason != R_BATCH:
             break
         sf[1], sf[14] = front, progress
-        batch = min(2 * batch, _MAX_BATCH)
     if stats is not None:
         stats["kernel_steps"] = stats.get("kernel_steps", 0) + total
+    if total:
+        pcg64.store(rng, rw)
     if total == 0:
         return state, 0
     new_st = st
