@@ -611,19 +611,20 @@ if HAVE_NUMBA:
 
 def _drop_stale_cache() -> None:
     """numba's cache (``cache=True``) checks only the source file of the cached function, not the
-    njit functions it calls in other modules (``explore._walk_kernel``, ``grid.verlet_update``):
+    njit functions it calls in other modules (``explore._walk_kernel``, ``grid.verlet_update``,
+    ``pcg64.fill``):
     after an edit there this module's cached kernels would keep the old code. So their cache
     files are dropped (and recompiled on first use) whenever those sources change."""
     import hashlib
     import os
 
-    from . import explore, grid
+    from . import explore, grid, pcg64
 
     path = getattr(getattr(_kernel, "_cache", None), "_cache_path", None)
     if not path or not os.path.isdir(path):
         return
     digest = hashlib.sha1()
-    for mod in (explore, grid):
+    for mod in (explore, grid, pcg64):
         with open(mod.__file__, "rb") as fh:
             digest.update(fh.read())
     stamp = os.path.join(path, "compiled.deps-sha1")
