@@ -106,26 +106,64 @@ class FrontRearGeometry:
 
     @classmethod
     def from_cubot(cls, robot=None, gap_mm: float | None = None) -> FrontRearGeometry:
-        """Read the dimensions of a :class:`cubot_cad.cubot.CuBot` (default: the thesis's)."""
-        from cubot_cad import couplings
+        """Read the dimensions of a :class:`cubot_cad.cubot.CuBot` (default: the thesis's): its
+        front wall between the side walls' mid-planes, from the floor's mid-plane to the top edge."""
         from cubot_cad.cubot import CuBot
 
         r = robot if robot is not None else CuBot()
-        fr = r.fr_spec
         w = r.wall_mm
-        yc, wb, hb = r.y_centre_mm, r.body_width_mm, r.body_height_mm
+        yc, wb = r.y_centre_mm, r.body_width_mm
+        return cls._from_spec(r.fr_spec, w, (yc - wb / 2 + w / 2, yc + wb / 2 - w / 2),
+                              (r.floor_mm / 2, r.body_height_mm),
+                              tuple((yb, r.block_z_mm) for yb in r.block_ys_mm), gap_mm)
+
+    @classmethod
+    def from_cube_robot(cls, robot=None, gap_mm: float | None = None) -> FrontRearGeometry:
+        """Read the dimensions of a :class:`cubot_cad.cube_robot.CubeRobot` (default: the thesis's):
+        the front wall of its connector cuboid (tier 2) between the side walls' mid-planes, from
+        the cuboid floor's mid-plane to its top edge (the sensor cylinder rests on it: free, as
+        the CuBot's cover), with the two pin blocks at ``+-block_offset_mm``."""
+        from cubot_cad.cube_robot import ConnectorCuboid, CubeRobot
+
+        r = robot if robot is not None else CubeRobot()
+        tier = next(pl.part for pl in r.build_placed() if isinstance(pl.part, ConnectorCuboid))
+        S, w = tier.size_mm / 2, tier.wall_mm
+        return cls._from_spec(r.fr_spec, w, (-S + w / 2, S - w / 2),
+                              (tier.z0_mm + tier.floor_mm / 2, tier.z0_mm + tier.height_mm),
+                              tuple((yb, r.block_z_mm) for yb in (-r.block_offset_mm, r.block_offset_mm)), gap_mm)
+
+    @classmethod
+    def of(cls, robot) -> FrontRearGeometry:
+        """:meth:`from_cubot` or :meth:`from_cube_robot` by the CAD robot's kind."""
+        from cubot_cad.cube_robot import CubeRobot
+        from cubot_cad.cubot import CuBot
+
+        if isinstance(robot, CuBot) or robot is None:
+            return cls.from_cubot(robot)
+        if isinstance(robot, CubeRobot):
+            return cls.from_cube_robot(robot)
+        raise InputError(f"no front-rear FE model of a {type(robot).__name__} (CuBot and Cube Robot only)")
+
+    @classmethod
+    def _from_spec(cls, fr, wall_mm: float, panel_y_mm, panel_z_mm, block_centres_mm,
+                   gap_mm: float | None) -> FrontRearGeometry:
+        """The pins, blocks and hinge of a :class:`cubot_cad.connectors.FrontRearSpec` on a wall panel.
+        The hinge is :func:`cubot_cad.couplings.front_rear`'s: the underside (z = 0) when the docked
+        faces touch, else the lowest pin row."""
+        from cubot_cad import couplings
+
         gap = fr.design_gap_mm if gap_mm is None else gap_mm
-        pins = [r.block_z_mm + z for _y, z in fr.pin_positions()]
+        pins = [bz + z for _by, bz in block_centres_mm[:1] for _y, z in fr.pin_positions()]
         hinge = 0.0 if gap < couplings.CONTACT_GAP_MM else min(pins)
         x_back = fr.head_x_mm - fr.plate_mm
-        g0 = fr.design_gap_mm + w + 2 * fr.plate_mm
+        g0 = fr.design_gap_mm + wall_mm + 2 * fr.plate_mm
         return cls(
-            wall_mm=w,
-            panel_y_mm=(yc - wb / 2 + w / 2, yc + wb / 2 - w / 2),
-            panel_z_mm=(r.floor_mm / 2, hb),
-            block_centres_mm=tuple((yb, r.block_z_mm) for yb in r.block_ys_mm),
+            wall_mm=wall_mm,
+            panel_y_mm=tuple(panel_y_mm),
+            panel_z_mm=tuple(panel_z_mm),
+            block_centres_mm=tuple(block_centres_mm),
             block_mm=fr.block_mm,
-            stack_mm=-w - x_back,
+            stack_mm=-wall_mm - x_back,
             pin_offsets_mm=tuple(tuple(p) for p in fr.pin_positions()),
             pin_diameter_mm=fr.pin_diameter_mm,
             groove_diameter_mm=fr.groove_diameter_mm,
@@ -388,13 +426,14 @@ def default_cache_dir() -> Path:
 def front_rear_fe(robot=None, material: str | Material = "abs", settings: MeshSettings = MeshSettings(),
                   cache_dir: str | os.PathLike | None = None, use_cache: bool = True,
                   with_shear: bool = True) -> ConnectorFE:
-    """FE stiffness of a CuBot's front-rear coupling, cached as ``<cache_dir>/<hash>.json``.
+    """FE stiffness of a CuBot's or Cube Robot's front-rear coupling, cached as ``<cache_dir>/<hash>.json``.
 
-    ``robot``: a :class:`cubot_cad.cubot.CuBot` (default: the thesis's dimensions). ``material``:
+    ``robot``: a :class:`cubot_cad.cubot.CuBot` or :class:`cubot_cad.cube_robot.CubeRobot`
+    (default: the thesis's CuBot). ``material``:
     a :data:`cubot_cad.part.MATERIALS` name or a :class:`Material`. A repeat call with the same
     geometry, material and mesh settings reads the cache (``cache_hit`` is True)."""
     t0 = time.perf_counter()
-    geom = FrontRearGeometry.from_cubot(robot)
+    geom = FrontRearGeometry.of(robot)
     mat = material if isinstance(material, Material) else Material.from_cubot_cad(material)
     key = input_hash(geom, mat, settings)
     path = Path(cache_dir) if cache_dir is not None else default_cache_dir()

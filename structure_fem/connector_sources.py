@@ -5,8 +5,9 @@ the hand-formula stiffness of every coupling with ``provenance = "hand formula: 
 play per feature from the CAD's clearances. This module puts the finite-element result of
 :mod:`structure_fem.connector_fe` in its place where one exists for the record's geometry:
 
-* :func:`fe_front_rear_for` recognises the CuBot front-rear coupling of a record: it rebuilds
-  the parametric CuBot at the record's print clearance (tension play / 2) and accepts it only
+* :func:`fe_front_rear_for` recognises the CuBot's or Cube Robot's front-rear coupling of a record
+  (:data:`FE_ROBOTS`): it rebuilds the parametric robot at the record's print clearance (tension
+  play / 2) and accepts it only
   if its hand formula gives exactly the record's values (same geometry, same modulus); then it
   looks the FE result up by the sha256 of geometry + material + mesh (``connector_fe.input_hash``)
   in the user cache (``~/.cache/voidcross/connector_fe/``) and in the packaged results
@@ -50,34 +51,47 @@ def _same(a: float, b: float) -> bool:
     return math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-15)
 
 
-def cubot_for_record(robot: RobotProperties):
-    """The parametric :class:`cubot_cad.cubot.CuBot` whose hand formula reproduces the record's
+#: The parametric CAD robots whose front-rear coupling :mod:`structure_fem.connector_fe` models
+#: (record name -> module, class); the side rail and twist key FE are the CuBot's only.
+FE_ROBOTS = {"cubot": ("cubot_cad.cubot", "CuBot"), "cube-robot": ("cubot_cad.cube_robot", "CubeRobot")}
+
+
+def cad_robot_for_record(robot: RobotProperties):
+    """The parametric CAD robot (:data:`FE_ROBOTS`) whose hand formula reproduces the record's
     front-rear coupling exactly, or ``(None, why not)``."""
-    if robot.name != "cubot":
-        return None, "no FE model of this robot's couplings yet (only of the CuBot's)"
+    if robot.name not in FE_ROBOTS:
+        return None, "no FE model of this robot's couplings yet (only of the CuBot's and the Cube Robot's)"
     try:
         rec = robot.connector("front_rear")
     except Exception:  # noqa: BLE001 - a record without one
         return None, "the record has no front_rear coupling"
-    from cubot_cad.cubot import CuBot
+    import importlib
 
+    mod, cls = FE_ROBOTS[robot.name]
     try:
-        cub = CuBot(clearance_mm=_clearance_of(rec))
+        cad = getattr(importlib.import_module(mod), cls)(clearance_mm=_clearance_of(rec))
     except Exception as exc:  # noqa: BLE001 - a clearance outside what the CAD can build
         return None, f"the CAD cannot rebuild the record's front-rear coupling ({exc})"
-    hand = cub.connector_properties(robot.youngs_modulus_pa, {"front_rear": rec.gap_m * 1e3})[0]
+    hand = cad.connector_properties(robot.youngs_modulus_pa, {"front_rear": rec.gap_m * 1e3})[0]
     if not all(_same(getattr(hand, f), getattr(rec, f)) for f in
                ("rotational_stiffness_nm_per_rad", "axial_stiffness_n_per_m", "backlash_rad", "height_m")):
-        return None, ("the record's front-rear values are not the parametric CuBot's hand formula at its "
+        return None, (f"the record's front-rear values are not the parametric {cls}'s hand formula at its "
                       "clearance and modulus (edited or another geometry): no FE result applies")
-    return cub, ""
+    return cad, ""
+
+
+def cubot_for_record(robot: RobotProperties):
+    """:func:`cad_robot_for_record` for a CuBot record (its side rail and twist key have FE models)."""
+    if robot.name != "cubot":
+        return None, "no FE model of this robot's side rail or twist key (only of the CuBot's)"
+    return cad_robot_for_record(robot)
 
 
 def fe_key(robot: RobotProperties, settings=None):
     """``(cubot, material, key)`` of the FE that applies to the record, or ``(None, why, None)``."""
     from . import connector_fe as cfe
 
-    cub, why = cubot_for_record(robot)
+    cub, why = cad_robot_for_record(robot)
     if cub is None:
         return None, why, None
     try:
@@ -88,7 +102,7 @@ def fe_key(robot: RobotProperties, settings=None):
         return None, (f"the record's modulus {robot.youngs_modulus_pa:.4g} Pa is not the FE material's "
                       f"{mat.E_pa:.4g} Pa"), None
     settings = cfe.MeshSettings() if settings is None else settings
-    return (cub, mat, settings), "", cfe.input_hash(cfe.FrontRearGeometry.from_cubot(cub), mat, settings)
+    return (cub, mat, settings), "", cfe.input_hash(cfe.FrontRearGeometry.of(cub), mat, settings)
 
 
 def packaged_fe() -> list[dict]:
@@ -132,6 +146,9 @@ def _fe_rail_key(robot: RobotProperties, which: str, cache_dir=None, compute: bo
     record (:func:`cubot_for_record`), the FE material of the record's modulus, the default mesh."""
     from . import rail_key_fe as rk
 
+    cub, why = cubot_for_record(robot)
+    if cub is None:
+        return None, why
     what, why, _key = fe_key(robot)
     if what is None:
         return None, why
@@ -470,21 +487,30 @@ def fit_moment_rotation(points, where: str) -> tuple[float, float, int]:
     return 1.0 / slope, max(0.0, mt - slope * mm), n
 
 
+#: The FE results packaged per robot record (:func:`write_packaged_fe`).
+PACKAGED_FINDERS = {"cubot": ("fe_front_rear_for", "fe_side_rail_for", "fe_top_twist_for"),
+                    "cube-robot": ("fe_front_rear_for",)}
+
+
 def write_packaged_fe(cache_dir=None) -> Path:
-    """Copy the FE results that apply to the packaged CuBot record (front-rear, side rail, twist key;
-    from the cache, computing any that is missing) into ``structure_fem/data/connector_fe.json``."""
+    """Write ``structure_fem/data/connector_fe.json``: exactly the FE results that apply to the
+    packaged records (:data:`PACKAGED_FINDERS`: the CuBot's front-rear, side rail and twist key,
+    the Cube Robot's front-rear), from the cache, computing any that is missing. Entries of
+    geometries no packaged record has any more are dropped."""
     from cubot_cad.properties import default_properties
 
-    robot = default_properties().get("cubot")
+    props = default_properties()
     results = []
-    for find in (fe_front_rear_for, fe_side_rail_for, fe_top_twist_for):
-        fe, where = find(robot, cache_dir, compute=True)
-        if fe is None:
-            raise InputError(f"no FE result applies to the packaged CuBot record: {where}")
-        results.append(fe)
-    keys = {fe.input_hash for fe in results}
-    entries = [d for d in packaged_fe() if d.get("input_hash") not in keys] + [fe.to_dict() for fe in results]
-    PACKAGED_FE.write_text(json.dumps(entries, indent=1, sort_keys=True) + "\n")
+    for name, finders in PACKAGED_FINDERS.items():
+        robot = props.get(name)
+        for finder in finders:
+            fe, where = globals()[finder](robot, cache_dir, compute=True)
+            if fe is None:
+                raise InputError(f"no FE result applies to the packaged {name} record: {where}")
+            results.append(fe)
+    tmp = PACKAGED_FE.with_suffix(".tmp")
+    tmp.write_text(json.dumps([fe.to_dict() for fe in results], indent=1, sort_keys=True) + "\n")
+    tmp.replace(PACKAGED_FE)
     return PACKAGED_FE
 
 

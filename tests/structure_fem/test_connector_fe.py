@@ -144,3 +144,43 @@ def test_bare_wall_patch_is_monotone_in_the_wall_and_near_the_plate_estimate():
     thick = cfe.bare_wall_patch_stiffness(cfe.FrontRearGeometry.from_cubot(THICK()), mat, s)["per_block_axial_n_per_m"]
     assert thick > thin
     assert 2e5 / 3 < thin < 2e5 * 3
+
+
+def test_the_cube_robot_geometry_is_its_connector_cuboid_wall():
+    """The Cube Robot's pins sit in blocks on the connector cuboid's front wall (tier 2): the
+    panel spans that tier (floor mid-plane to its top edge), the blocks are at +-block_offset_mm at
+    the tier's mid-height, and its pins are 1.7 mm longer than the latch is deep, so the docked
+    robots stand apart and the hinge is the lowest pin row (cubot_cad.couplings.front_rear)."""
+    from cubot_cad.cube_robot import CubeRobot
+
+    robot = CubeRobot()
+    g = cfe.FrontRearGeometry.of(robot)
+    assert g == cfe.FrontRearGeometry.from_cube_robot(robot)
+    assert g.panel_z_mm == pytest.approx((robot.wheel_block_mm + 1.5, robot.wheel_block_mm + robot.cuboid_mm))
+    assert g.panel_y_mm == pytest.approx((-robot.size_mm / 2 + 1.2, robot.size_mm / 2 - 1.2))
+    assert g.block_centres_mm == ((-22.0, robot.block_z_mm), (22.0, robot.block_z_mm))
+    assert sorted(z for _y, z in g.pin_axes_mm()) == pytest.approx(sorted(robot.pin_heights_mm()))
+    assert g.hinge_z_mm == pytest.approx(min(robot.pin_heights_mm()))
+    assert g.tip_x_mm == pytest.approx(robot.fr_spec.latch_depth_mm + robot.pin_overrun_mm)
+    # inputs move it: another block offset, another wall, a flush pin -> another geometry
+    assert cfe.FrontRearGeometry.of(CubeRobot(block_offset_mm=20.0)).block_centres_mm[1][0] == 20.0
+    assert cfe.FrontRearGeometry.of(CubeRobot(wall_mm=3.0)).wall_mm == 3.0
+    assert cfe.FrontRearGeometry.of(CubeRobot(pin_overrun_mm=0.0)).hinge_z_mm == 0.0
+    with pytest.raises(cfe.InputError, match="no front-rear FE model"):
+        cfe.FrontRearGeometry.of(object())
+
+
+@pytest.mark.bench
+def test_the_cube_robot_joint_follows_its_wall_and_its_hinge():
+    """Coarse FE of the Cube Robot's coupling: a thicker cuboid wall is stiffer; with its hinge at
+    the lowest pin row (the docked gap) the pitch stiffness is far below the CuBot's (hinge at the
+    underside, 30-37 mm lever arms) although the pins and blocks are the same."""
+    from cubot_cad.cube_robot import CubeRobot
+
+    mat = cfe.Material.from_cubot_cad("abs")
+    thin = cfe.compute_front_rear(cfe.FrontRearGeometry.of(CubeRobot()), mat, COARSE, with_shear=False)
+    thick = cfe.compute_front_rear(cfe.FrontRearGeometry.of(CubeRobot(wall_mm=3.2)), mat, COARSE, with_shear=False)
+    cubot = cfe.compute_front_rear(cfe.FrontRearGeometry.from_cubot(), mat, COARSE, with_shear=False)
+    assert thick.axial_stiffness_n_per_m > thin.axial_stiffness_n_per_m
+    assert thick.rotational_stiffness_nm_per_rad > thin.rotational_stiffness_nm_per_rad
+    assert thin.rotational_stiffness_nm_per_rad < 0.2 * cubot.rotational_stiffness_nm_per_rad

@@ -17,7 +17,8 @@ from structure_fem.runs import RunOptions, make_inputs
 
 @pytest.fixture(scope="module")
 def packaged_fe():
-    (d,) = [e for e in cs.packaged_fe() if e["kind"] == "front_rear"]
+    key = cs.fe_key(default_properties().get("cubot"))[2]
+    (d,) = [e for e in cs.packaged_fe() if e["kind"] == "front_rear" and e["input_hash"] == key]
     return d
 
 
@@ -51,9 +52,10 @@ def test_an_edited_record_gets_no_fe_and_says_why():
     robot, notes = cs.resolve(edited)
     assert robot.connector("front_rear").provenance.startswith("hand formula")
     assert "not the parametric CuBot" in notes["front_rear"]
-    other = default_properties().get("cube-robot")
+    other = default_properties().get("octbot")
     _, notes = cs.resolve(other)
-    assert notes["front_rear"].startswith("record")
+    assert notes["ring_capture"] == "record"
+    assert "no FE model of this robot" in cs.fe_key(other)[1]
 
 
 def test_the_fe_is_looked_up_by_its_geometry_and_material_hash(tmp_path, packaged_fe):
@@ -143,3 +145,24 @@ def test_calibrate_reports_a_measured_coupling(cli, tmp_path):
     assert res.code == 0, res.err
     m = res.json()["measured"]["front_rear"]
     assert m["provenance"].startswith(f"measured: {p}") and m["backlash_rad"] == pytest.approx(3.95e-3, rel=0.01)
+
+
+def test_the_cube_robot_front_rear_comes_from_its_packaged_fe():
+    """The packaged Cube Robot record's front-rear coupling is recognised as the parametric Cube
+    Robot's (hand formula reproduced at its clearance and modulus) and takes the packaged FE of
+    its geometry, with the CAD's play; an edited one keeps its hand formula and says why."""
+    rec = default_properties().get("cube-robot")
+    _what, why, key = cs.fe_key(rec)
+    assert why == "" and key != cs.fe_key(default_properties().get("cubot"))[2]
+    (entry,) = [e for e in cs.packaged_fe() if e["input_hash"] == key]
+    robot, notes = cs.resolve(rec)
+    fr = robot.connector("front_rear")
+    assert notes["front_rear"].startswith("fe (result found in the")  # the package (or a cache copy)
+    assert fr.provenance.startswith("fe: ") and key[:16] in fr.provenance
+    assert fr.rotational_stiffness_nm_per_rad == entry["rotational_stiffness_nm_per_rad"]
+    assert fr.play == rec.connector("front_rear").play and fr.gap_m == rec.connector("front_rear").gap_m
+    assert entry["hinge_z_m"] == pytest.approx(0.0515)
+    edited = rec.with_connector(replace(rec.connector("front_rear"), backlash_rad=0.05))
+    robot, notes = cs.resolve(edited)
+    assert robot.connector("front_rear").provenance.startswith("hand formula")
+    assert "not the parametric CubeRobot" in notes["front_rear"]
