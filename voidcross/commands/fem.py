@@ -477,15 +477,27 @@ def run_bench(args) -> int:
     fe, where = fe_front_rear_for(robot)
     fe_s = time.perf_counter() - t0
     cold = None if fe is None else fe.timings_s.get("total")
+    # every packaged FE result's cold time as recorded when it was computed (issue 12's goal: all <= 5 min)
+    from structure_fem.connector_sources import packaged_fe
+
+    per_fe = {f"{d.get('kind')}:{str(d.get('input_hash'))[:12]}": (d.get("timings_s") or {}).get("total")
+              for d in packaged_fe()}
+    all_cold = sum(v for v in per_fe.values() if isinstance(v, (int, float)))
     payload = {"line_15_robots_solve_s": one, "line_15_goal_s": 0.2, "table_s": whole, "table_goal_s": 60.0,
                "table_cold_s": cold_table, "table_warm_is": "second run, solve cache filled by the first",
                "line_15_ratio_to_goal": one / 0.2, "table_ratio_to_goal": whole / 60.0,
-               "connector_fe_lookup_s": fe_s, "connector_fe_from": where, "connector_fe_cold_s_when_computed": cold}
+               "connector_fe_lookup_s": fe_s, "connector_fe_from": where, "connector_fe_cold_s_when_computed": cold,
+               "connector_fe_all_cold_s_recorded": round(all_cold, 3), "connector_fe_all_goal_s": 300.0,
+               "connector_fe_all_ratio_to_goal": round(all_cold / 300.0, 3), "connector_fe_cold_s_per_result": per_fe,
+               "connector_fe_all_is": "sum of the packaged results' recorded cold times (each measured when it was "
+                                      "computed, not in this run)"}
     emit(args, payload, f"one 15-robot line solve: {one * 1e3:.1f} ms (goal 200 ms, ratio {one / 0.2:.3f})\n"
                         f"whole table w=1..30 (flexible bodies, launch allowance): warm {whole:.1f} s (goal 60 s, "
                         f"ratio {whole / 60:.3f}), cold {cold_table:.1f} s (every static solve)\n"
                         f"connector FE (CuBot front-rear): {fe_s * 1e3:.1f} ms from the {where} "
-                        f"(cold solve when it was computed: {cold} s)")
+                        f"(cold solve when it was computed: {cold} s)\n"
+                        f"connector FE, all {len(per_fe)} packaged results: {all_cold:.0f} s cold as recorded (goal "
+                        f"300 s, ratio {all_cold / 300:.2f})")
     return 0
 
 
