@@ -332,26 +332,6 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
     from .properties import RobotPropertiesFile, ground_contact_fields
     from .settings import settings_text
 
-    tuned = f", --set {settings_text(settings)}" if settings else ""
-    source = (f"cubot_cad CAD export (material {material_name.upper()}, clearance {clearance_mm:g} mm{tuned}): "
-              "mass/COM/inertia = printed parts (OCC) + non-printed component table; exposed heights measured "
-              "on the wheel/caster solids; connector stiffness = documented estimate (structure_fem calibrates)")
-    props = {}
-    for name, r in models.items():
-        props[name] = r.robot_properties(material_name, source=source) if not gaps or name not in gaps else \
-            _with_gaps(r, material_name, source, gaps[name])
-    from .pier import stack_fields
-
-    # standing height, stack pitch and deck height of the robots that stack (measured when docked)
-    props = {n: replace(p, **stack_fields(models[n], pairs)) for n, p in props.items()}
-    # where each robot touches the ground (wheel and caster contacts: structure_fem's ledge supports)
-    props = {n: replace(p, **ground_contact_fields(models[n])) for n, p in props.items()}
-    # the printed body's bending section (structure_fem's flexible bodies)
-    from .section import body_section_fields
-
-    props = {n: replace(p, **body_section_fields(models[n])) for n, p in props.items()}
-    pfile = RobotPropertiesFile(robots=tuple(props.values()))
-    pfile.save(out / "robot_properties.json")
     robots_summary = {}
     for name, r in models.items():
         mp = r.mass_properties(material_name)
@@ -380,11 +360,39 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
                            "files": glb_files, "models": models_summary}
     if pairs is not None:
         manifest["docked_pairs"] = [p.summary() for p in pairs]
+    fractions: dict = {}
     if slice_parts and "stl" in formats:  # slicer's print time, filament and printed mass per part and robot
-        from .slicing import slice_into_manifest, slicer_path
+        from .slicing import printed_fractions, slice_into_manifest, slicer_path
 
         if slicer_path() is not None:
             slice_into_manifest(manifest, out, progress=progress)
+            fractions = printed_fractions(manifest)
+    tuned = f", --set {settings_text(settings)}" if settings else ""
+    props = {}
+    for name, r in models.items():
+        frac = fractions.get(name)
+        mass = ("mass/COM/inertia = printed parts (OCC solids, each part's density scaled to the slicer's printed "
+                f"grams at its recorded print settings: {manifest.get('slicer_version') or manifest.get('slicer')}; "
+                "mass distributed as the solid's: assumption) + non-printed component table" if frac else
+                "mass/COM/inertia = printed parts as solid (OCC; not sliced: the print at its infill is lighter) "
+                "+ non-printed component table")
+        source = (f"cubot_cad CAD export (material {material_name.upper()}, clearance {clearance_mm:g} mm{tuned}): "
+                  f"{mass}; exposed heights measured on the wheel/caster solids; connector stiffness = documented "
+                  "estimate (structure_fem calibrates)")
+        props[name] = r.robot_properties(material_name, source=source, printed_fraction=frac) \
+            if not gaps or name not in gaps else _with_gaps(r, material_name, source, gaps[name], frac)
+    from .pier import stack_fields
+
+    # standing height, stack pitch and deck height of the robots that stack (measured when docked)
+    props = {n: replace(p, **stack_fields(models[n], pairs)) for n, p in props.items()}
+    # where each robot touches the ground (wheel and caster contacts: structure_fem's ledge supports)
+    props = {n: replace(p, **ground_contact_fields(models[n])) for n, p in props.items()}
+    # the printed body's bending section (structure_fem's flexible bodies)
+    from .section import body_section_fields
+
+    props = {n: replace(p, **body_section_fields(models[n])) for n, p in props.items()}
+    pfile = RobotPropertiesFile(robots=tuple(props.values()))
+    pfile.save(out / "robot_properties.json")
     write_json_atomic(out / "manifest.json", manifest)
     return {"parts": records, "robots": robots_summary, "step_files": step_files, "glb_files": glb_files}
 
@@ -416,10 +424,10 @@ def _write_glbs(out: Path, models: dict, clearance_mm: float, pairs, settings: t
     return files, summary
 
 
-def _with_gaps(robot, material_name: str, source: str, gaps: dict[str, float]):
+def _with_gaps(robot, material_name: str, source: str, gaps: dict[str, float], printed_fraction: dict | None = None):
     from dataclasses import replace
 
-    rp = robot.robot_properties(material_name, source=source)
+    rp = robot.robot_properties(material_name, source=source, printed_fraction=printed_fraction)
     conns = robot.connector_properties(rp.youngs_modulus_pa, gaps)
     return replace(rp, connectors=tuple(conns))
 

@@ -11,6 +11,7 @@ box, cylinder or sphere of assumed mass at an assumed position.
 
 from __future__ import annotations
 
+import math
 from collections import OrderedDict
 from dataclasses import dataclass
 from functools import cached_property
@@ -19,6 +20,7 @@ from typing import ClassVar
 import numpy as np
 
 from .components import Component
+from .errors import InputError
 from .part import Part, material
 
 #: Colour (rgb 0-1) of the printed parts by :attr:`Placed.role` (a ``_side`` suffix is ignored), so
@@ -171,9 +173,18 @@ class Robot:
 
         return min(tight_bbox(s)[2] for s in seats) - min(tight_bbox(b)[2] for b in balls)
 
-    def mass_properties(self, material_name: str = "abs") -> MassProperties:
+    def mass_properties(self, material_name: str = "abs", printed_fraction: dict | None = None) -> MassProperties:
+        """Mass, COM and inertia of the printed parts (the solid model at the material's density)
+        plus the component table. ``printed_fraction``: part name -> printed / solid mass (the
+        slicer's grams at the part's print settings over the solid model's, :func:`printed_fractions`);
+        each such part's density is scaled by it (its mass distributed as the solid's: an
+        assumption, the shell of a print is denser than its infill)."""
         rho = material(material_name)["density_kg_m3"]
-        printed = [_shape_inertia(p.shape, rho) for p in self.placed]
+        frac = printed_fraction or {}
+        for name, f in frac.items():
+            if not (isinstance(f, (int, float)) and math.isfinite(f) and 0 < f <= 1.5):
+                raise InputError(f"printed_fraction[{name!r}] = {f!r} must be a number in (0, 1.5]")
+        printed = [_shape_inertia(p.shape, rho * frac.get(p.part.name, 1.0)) for p in self.placed]
         others = [item for comp in self.components() for item in comp.mass_items()]
         mp, _, _ = combine(printed)
         M, com, J = combine(printed + others)
@@ -182,11 +193,12 @@ class Robot:
             inertia_kg_m2=(float(J[0, 0]), float(J[1, 1]), float(J[2, 2]),
                            float(J[0, 1]), float(J[0, 2]), float(J[1, 2])))
 
-    def robot_properties(self, material_name: str = "abs", source: str = "cubot_cad"):
+    def robot_properties(self, material_name: str = "abs", source: str = "cubot_cad",
+                         printed_fraction: dict | None = None):
         from .properties import RobotProperties
 
         mat = material(material_name)
-        mp = self.mass_properties(material_name)
+        mp = self.mass_properties(material_name, printed_fraction)
         L, W, H = self.envelope_mm
         return RobotProperties(
             name=self.name, length_m=L / 1000, width_m=W / 1000, height_m=H / 1000,

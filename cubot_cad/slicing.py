@@ -389,7 +389,41 @@ def slice_into_manifest(manifest: dict, root: str | os.PathLike, progress=None,
     for name, t in robot_totals(rows).items():
         manifest.setdefault("robots", {}).setdefault(name, {})["slicing"] = t
     manifest["slicer"] = exe
+    manifest["slicer_version"] = slicer_version(exe)
     return manifest
+
+
+def slicer_version(exe: str | None = None) -> str | None:
+    """The slicer's version line (``PrusaSlicer-2.5.0+...``) from ``--help``, or None."""
+    exe = exe or slicer_path()
+    if exe is None:
+        return None
+    try:
+        proc = subprocess.run([exe, "--help"], capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
+        return None
+    for line in (proc.stdout or "").splitlines():
+        if line.startswith("PrusaSlicer"):
+            return line.split(" based on")[0].strip()
+    return None
+
+
+def printed_fractions(manifest: dict) -> dict[str, dict[str, float]]:
+    """Per robot whose every per-robot part sliced: part name -> the slicer's printed mass over the
+    solid model's (what :meth:`cubot_cad.robot.Robot.mass_properties` scales each part by). A
+    robot with any part unsliced is left out (its record keeps the solid model, and says so)."""
+    out: dict[str, dict[str, float]] = {}
+    bad: set[str] = set()
+    for p in manifest.get("parts", []):
+        if p.get("per", "robot") != "robot":
+            continue
+        s = p.get("slice") or {}
+        solid = float(p.get("mass_g") or 0.0)
+        if not s.get("ok") or not s.get("printed_mass_g") or solid <= 0:
+            bad.add(p["robot"])
+            continue
+        out.setdefault(p["robot"], {})[p["part"]] = float(s["printed_mass_g"]) / solid
+    return {r: f for r, f in out.items() if r not in bad}
 
 
 def robot_totals(rows: list[dict]) -> dict:
@@ -426,5 +460,6 @@ def duration_text(seconds: float) -> str:
 
 
 __all__ = ["FILAMENT_DIAMETER_MM", "GcodeStats", "SliceResult", "WASTE_FEATURES", "check_applied", "density_g_cm3",
-           "duration_text", "parse_duration_s", "parse_gcode", "part_entry", "read_config", "robot_totals",
+           "duration_text", "parse_duration_s", "parse_gcode", "part_entry", "printed_fractions", "read_config",
+           "robot_totals", "slicer_version",
            "slice_into_manifest", "slice_manifest", "slice_stl", "slicer_args", "slicer_path"]

@@ -287,3 +287,54 @@ def test_every_exported_part_slices_with_its_recorded_settings(export_dir, requi
         assert t["complete"], name
         assert t["printed_mass_g"] < t["solid_mass_g"], name
         assert t["solid_over_printed_pct"] > 5, name
+
+
+def test_printed_fractions_are_per_part_and_only_for_fully_sliced_robots():
+    from cubot_cad.slicing import printed_fractions
+
+    ok = {"ok": True, "printed_mass_g": 6.0}
+    man = {"parts": [
+        {"robot": "a", "part": "body", "per": "robot", "mass_g": 10.0, "slice": ok},
+        {"robot": "a", "part": "pin", "per": "robot", "mass_g": 2.0, "slice": {"ok": True, "printed_mass_g": 1.8}},
+        {"robot": "a", "part": "deck", "per": "pier", "mass_g": 50.0, "slice": {"ok": False}},  # not the robot's
+        {"robot": "b", "part": "body", "per": "robot", "mass_g": 10.0, "slice": ok},
+        {"robot": "b", "part": "lid", "per": "robot", "mass_g": 3.0, "slice": {"ok": False}},
+    ]}
+    assert printed_fractions(man) == {"a": {"body": pytest.approx(0.6), "pin": pytest.approx(0.9)}}
+
+
+def test_a_printed_fraction_scales_each_parts_mass_and_inertia():
+    """The record's mass follows the slicer: the platform's plate at half its solid mass halves the
+    printed mass, keeps its COM (one part) and halves its inertia; a bad fraction is refused."""
+    from cubot_cad.export import make_robot
+
+    r = make_robot("platform", 0.2, ())
+    solid = r.mass_properties()
+    half = r.mass_properties(printed_fraction={"test_platform": 0.5})
+    assert half.printed_mass_kg == pytest.approx(0.5 * solid.printed_mass_kg, rel=1e-12)
+    comps = solid.mass_kg - solid.printed_mass_kg
+    assert half.mass_kg == pytest.approx(0.5 * solid.printed_mass_kg + comps, rel=1e-12)
+    assert half.inertia_kg_m2[0] < solid.inertia_kg_m2[0]
+    for bad in (0.0, -1.0, float("nan"), 2.0):
+        with pytest.raises(InputError, match="printed_fraction"):
+            r.mass_properties(printed_fraction={"test_platform": bad})
+
+
+def test_a_sliced_export_feeds_the_printed_mass_into_the_record(tmp_path, require_tool):
+    """`cad export --slice`: the robot's record has the slicer's printed grams (plus the bought
+    parts) instead of the solid model's, and its source says which slicer; unsliced, the solid."""
+    from cubot_cad.export import export_robots
+    from cubot_cad.properties import RobotPropertiesFile
+
+    require_tool(slicer_path(), "prusa-slicer")
+    export_robots(["platform"], tmp_path / "sliced", ("stl",), slice_parts=True)
+    export_robots(["platform"], tmp_path / "solid", ("stl",))
+    man = json.loads((tmp_path / "sliced" / "manifest.json").read_text())
+    t = man["robots"]["platform"]["slicing"]
+    sliced = RobotPropertiesFile.load(tmp_path / "sliced" / "robot_properties.json").get("platform")
+    solid = RobotPropertiesFile.load(tmp_path / "solid" / "robot_properties.json").get("platform")
+    comps = solid.mass_kg - t["solid_mass_g"] * 1e-3
+    assert sliced.mass_kg == pytest.approx(t["printed_mass_g"] * 1e-3 + comps, rel=1e-4)  # (grams rounded)
+    assert sliced.mass_kg < solid.mass_kg
+    assert "slicer's printed grams" in sliced.source and man["slicer_version"] in sliced.source
+    assert "not sliced" in solid.source

@@ -113,6 +113,9 @@ def do_export(out: Path, robots, formats, material: str, clearance: float, with_
     if packaged_default and settings:
         raise InputError(f"--packaged-default with --set {settings_text(settings)}: the packaged file holds the "
                          "default robots")
+    if packaged_default and not slice_parts:
+        raise InputError("--packaged-default needs --slice: the packaged record carries the printed mass "
+                         "(the slicer's grams at each part's print settings), not the solid model's")
     for name in robots:  # every robot builds with the settings before any docking or writing
         make_robot(name, clearance, settings)
     t0 = time.perf_counter()
@@ -590,10 +593,11 @@ def register(sub, common) -> None:
     e.add_argument("--no-dock", action="store_true",
                    help="skip the docked pairs (connector gaps then come from the connector geometry alone)")
     e.add_argument("--packaged-default", action="store_true",
-                   help="maintainers: also write cubot_cad/data/robot_properties.json (needs --robot all)")
+                   help="maintainers: also write cubot_cad/data/robot_properties.json (needs --robot all --slice)")
     e.add_argument("--slice", action="store_true",
                    help="slice every STL with its recorded print settings (prusa-slicer; 2-4 min): print time, "
-                        "filament and printed grams per part and robot in manifest.json")
+                        "filament and printed grams per part and robot in manifest.json, and the printed mass "
+                        "(not the solid model's) in robot_properties.json")
     e.set_defaults(func=run_export)
 
     d = csub.add_parser("dock", parents=[common], help="docked pairs: gap, interference and capture range of every coupling",
