@@ -88,6 +88,19 @@ class RingSpec:
         return self.hook_mm + 2 * self.clearance_mm + 1.0
 
     @property
+    def plate_half_mm(self) -> float:
+        """Half the ring's mounting plate's width (y), mm."""
+        return self.outer_radius_mm + 2.5
+
+    @property
+    def mount_ys_mm(self) -> tuple[float, float]:
+        """y of the two M-screws that hold the ring plate to the rear wall and the capturer housing to the
+        front wall (the body's wall holes are at the same y, at ``centre_z_mm``), mm: 3.5 mm in from the
+        plate's edges."""
+        y = self.plate_half_mm - 3.5
+        return (-y, y)
+
+    @property
     def ring_length_mm(self) -> float:
         """From the rear face to the lip's outer face."""
         return self.plate_mm + self.undercut_mm + self.lip_mm
@@ -106,7 +119,7 @@ class OctRing(Part):
 
         s = self.spec
         zc = s.centre_z_mm
-        h = s.outer_radius_mm + 2.5
+        h = s.plate_half_mm
         plate = box(0, s.plate_mm, -h, h, zc - min(h, zc - 0.5), zc + min(h, 30 - zc))
         tube = cyl(s.outer_radius_mm, s.ring_length_mm - s.plate_mm + 0.01, (s.plate_mm - 0.005, 0, zc), X)
         body = plate.fuse(tube).clean()
@@ -120,22 +133,54 @@ class OctRing(Part):
         from .fasteners import clearance_hole_mm
 
         r_screw = clearance_hole_mm(s.screw_size) / 2
-        screws = [cyl(r_screw, s.plate_mm + 0.2, (-0.1, y, zc), X) for y in (-h + 3.5, h - 3.5)]
+        screws = [cyl(r_screw, s.plate_mm + 0.2, (-0.1, y, zc), X) for y in s.mount_ys_mm]
         return cut_all(body, cut + screws)
 
 
 @dataclass(frozen=True)
 class CapturerHousing(Part):
-    """Front capturer housing (frame: x = 0 on the front face, +x outward)."""
+    """Front capturer housing (frame: x = 0 on the front face, +x outward; mm).
+
+    It is screwed to the body's front wall from inside: two screws (``spec.screw_size``) through the
+    wall's holes into heat-set inserts in the housing's back face, at :attr:`RingSpec.mount_ys_mm` and
+    the ring's centre height. (The finger drive, a worm on a motor in a pocket of the housing, is not
+    built yet: issue 15.)"""
 
     spec: RingSpec = RingSpec()
     length_mm: float = 29.0
+    #: The housing's half width (y; 15.5 keeps 0.8 mm round the inserts at the loosest clearance) and
+    #: half height (z about the ring's centre), mm.
+    half_width_mm: float = 15.5
+    half_height_mm: float = 12.0
     name: ClassVar[str] = "octbot_capturer_housing"
-    description: ClassVar[str] = "OctBot capturer housing: worm-screw bore, finger slots"
+    description: ClassVar[str] = "OctBot capturer housing: worm-screw bore, finger slots, two mounting inserts"
     print_rotation: ClassVar = (((0.0, 1.0, 0.0), -90.0),)
 
     def validate(self) -> None:
+        from .fasteners import thread
+
         need(self.length_mm >= 20.0, f"length_mm {self.length_mm:g}: the worm-screw housing needs >= 20 mm")
+        ins = thread(self.spec.screw_size)
+        y = max(abs(v) for v in self.spec.mount_ys_mm)
+        need(at_least(self.half_width_mm - y - ins.insert_hole_mm / 2, MIN_WALL_MM),
+             f"CapturerHousing.half_width_mm {self.half_width_mm:g} leaves under {MIN_WALL_MM:g} mm round the "
+             f"{ins.insert_hole_mm:g} mm mounting inserts at y = +-{y:g} mm")
+        # the inserts stay clear of the worm-screw bore (across y at mid-length) and the carrier bore (on the axis)
+        need(at_least(self.length_mm / 2 - self.worm_bore_radius_mm - ins.insert_hole_depth_mm, MIN_WALL_MM)
+             and at_least(y - ins.insert_hole_mm / 2 - self.carrier_bore_radius_mm, MIN_WALL_MM),
+             f"CapturerHousing.length_mm {self.length_mm:g}: the mounting inserts reach the worm or carrier bore")
+
+    #: Radius of the worm wheel / finger carrier bore on the axis, mm.
+    carrier_bore_radius_mm: ClassVar[float] = 5.0
+
+    @property
+    def worm_bore_radius_mm(self) -> float:
+        """The worm screw's bore (across y at mid-length): a 6 mm worm plus the clearance, mm."""
+        return 3.0 + self.spec.clearance_mm
+
+    def insert_points_mm(self) -> list[tuple[float, float]]:
+        """(y, z) of the mounting inserts in the back face (housing frame)."""
+        return [(y, self.spec.centre_z_mm) for y in self.spec.mount_ys_mm]
 
     def build(self):
         from .shapes import X, Y, box, cut_all, cyl, rotated
@@ -143,9 +188,15 @@ class CapturerHousing(Part):
         s = self.spec
         zc = s.centre_z_mm
         Lh = self.length_mm
-        body = box(0, Lh, -15, 15, zc - 12, zc + 12)
-        cut = [cyl(3.0 + s.clearance_mm, 31, (Lh / 2, -15.5, zc), Y),  # worm screw
-               cyl(5.0, Lh - 10, (3.0, 0, zc), X)]  # worm wheel / finger carrier
+        from .fasteners import thread
+
+        hw, hh = self.half_width_mm, self.half_height_mm
+        body = box(0, Lh, -hw, hw, zc - hh, zc + hh)
+        cut = [cyl(self.worm_bore_radius_mm, 2 * hw + 1, (Lh / 2, -hw - 0.5, zc), Y),  # worm screw
+               cyl(self.carrier_bore_radius_mm, Lh - 10, (3.0, 0, zc), X)]  # worm wheel / finger carrier
+        ins = thread(s.screw_size)
+        cut += [cyl(ins.insert_hole_mm / 2, ins.insert_hole_depth_mm + 0.1, (-0.1, y, z), X)
+                for y, z in self.insert_points_mm()]
         r0 = s.finger_radius_mm - s.finger_mm / 2 - s.finger_travel_mm - s.clearance_mm
         r1 = s.finger_radius_mm + s.finger_mm / 2 + s.clearance_mm
         a = s.finger_mm / 2 + s.clearance_mm
@@ -200,6 +251,9 @@ class OctBotBody(Part):
     wheel_base_mm: float = 70.0
     caster_x_mm: float = 36.0
     ring_centre_z_mm: float = 16.0
+    #: The ring's and the capturer housing's two screws go through the rear and front walls at
+    #: y = +-``mount_y_mm`` (:attr:`RingSpec.mount_ys_mm`), mm.
+    mount_y_mm: float = 12.0
     screw_size: str = "M3"
     name: ClassVar[str] = "octbot_body"
     description: ClassVar[str] = "OctBot body: octagonal tray, wheel slots, IR windows, mounting holes"
@@ -232,7 +286,7 @@ class OctBotBody(Part):
         # ring/housing screw holes, colour sensor and edge detector windows in the floor
         zc = self.ring_centre_z_mm
         for x0 in (af / 2 - w - 1, -af / 2 - 1):
-            cut += [cyl(r_screw, w + 2, (x0, y, zc), X) for y in (-12.0, 12.0)]
+            cut += [cyl(r_screw, w + 2, (x0, y, zc), X) for y in (-self.mount_y_mm, self.mount_y_mm)]
         cut.append(box(20, 26, -4, 4, -1, self.floor_mm + 1))
         cut.append(box(af / 2 - w - 8, af / 2 - w - 3, -3, 3, -1, self.floor_mm + 1))
         return cut_all(body, cut)
@@ -303,7 +357,8 @@ class OctBot(Robot):
         return OctBotBody(across_flats_mm=self.across_flats_mm, height_mm=self.height_mm, wall_mm=self.wall_mm,
                           floor_mm=self.floor_mm, wheel_radius_mm=self.wheel_radius_mm,
                           wheel_width_mm=self.wheel_width_mm, wheel_base_mm=self.wheel_base_mm,
-                          caster_x_mm=self.caster_x_mm, ring_centre_z_mm=self.ring_spec.centre_z_mm)
+                          caster_x_mm=self.caster_x_mm, ring_centre_z_mm=self.ring_spec.centre_z_mm,
+                          mount_y_mm=max(self.ring_spec.mount_ys_mm))
 
     def build_placed(self, fingers_open: bool = False) -> list[Placed]:
         from .shapes import location
@@ -333,6 +388,9 @@ class OctBot(Robot):
         gap = 0.3
         motor_y = wb - self.wheel_width_mm / 2 - gap - 12.0  # the gearbox face 0.3 mm from the wheel
         inner = h - self.wall_mm  # the flat walls' inner faces
+        from .fasteners import thread
+
+        head = thread(self.ring_spec.screw_size).shcs_head_height_mm  # the housing screws' heads on the front wall
         return [
             Component("drive_motor", "micro metal gearmotor (N20: 12 x 10 x 24 mm)", 10.0,
                       ((0.0, -motor_y, axle + 4), (0.0, motor_y, axle + 4)), (12.0, 24.0, 10.0), "box", "motor",
@@ -350,9 +408,10 @@ class OctBot(Robot):
             # under the open top, inside the octagon (a 66 mm square's corners stay inside its walls)
             Component("main_board", "ARM Cortex-M0 board with IMU, colour sensor, IR LEDs/photodiodes", 12.0,
                       ((0.0, 0.0, self.height_mm - 4.0),), (66.0, 66.0, 4.0)),
-            # in the body behind the front wall, its shaft through the wall into the housing's worm bore
+            # in the body behind the front wall (and the housing screws' heads), its shaft through the wall
+            # into the housing's worm bore
             Component("worm_motor", "micro gearmotor driving the capturer's worm screw (through the front wall)", 10.0,
-                      ((inner - gap - 5.0, 0.0, self.ring_spec.centre_z_mm),), (10.0, 24.0, 10.0), "box",
+                      ((inner - head - gap - 5.0, 0.0, self.ring_spec.centre_z_mm),), (10.0, 24.0, 10.0), "box",
                       "motor", (0.3, 0.3, 0.3)),
             Component("fasteners", "M2/M3 screws", 5.0, ((0.0, 0.0, self.height_mm / 2),), (60.0, 60.0, 20.0),
                       "box", "hardware", (0.6, 0.6, 0.6), lump=True),
@@ -363,6 +422,9 @@ class OctBot(Robot):
 
         rs, n = self.ring_spec, self.name
         out = bolted(n, rs.screw_size, rs.plate_mm + self.wall_mm, 2, "ring plate to the rear wall", nut=True)
+        out += bolted(n, rs.screw_size, self.wall_mm, len(rs.mount_ys_mm),
+                      "capturer housing: from inside the body through the front wall into the housing's inserts",
+                      insert=True)
         if self.caster_screw_depth_mm > 0:
             out += bolted(n, rs.screw_size, self.floor_mm, 2, "caster seats (into the seat's tap hole)",
                           thread_mm=self.caster_screw_depth_mm)
