@@ -2,9 +2,12 @@
 differential drive, two adjustable ball casters, ring-and-capture coupling.
 
 Rear: a ring (a short tube with an inner lip) on a mounting plate. Front: the
-capturer housing (worm-screw bore) with three fingers at 90/210/330 deg; the
-fingers pass the lip closed, open behind it and pull the ring against the
-housing. The docked gap (face to face) is ``docked_gap_mm`` (thesis: it cannot
+capturer housing with three fingers at 90/210/330 deg; the fingers pass the lip
+closed (retracted), open (spread) behind it and pull the ring against the
+housing. They are driven like a scroll chuck: a cam disc behind them (three
+spiral slots, one peg per finger) turned by a worm on an N20 gearmotor in a
+pocket of the housing; :meth:`RingSpec.finger_offset_mm` maps the disc angle to
+the fingers' radial position, ``OctBot.build_placed(disc_deg=...)`` places them. The docked gap (face to face) is ``docked_gap_mm`` (thesis: it cannot
 be less than 40 mm because of the proximity sensors' reading range); the
 housing length follows from it and the ring's geometry.
 """
@@ -44,6 +47,15 @@ class RingSpec:
     lip_chamfer_mm: float = 1.0
     hook_chamfer_mm: float = 0.8
     screw_size: str = "M3"
+    #: The finger drive (a scroll-chuck-like cam disc turned by a worm): the pegs' radius on the
+    #: fingers' tails, the cam disc's thickness and radius, the disc turn from retracted to spread
+    #: (deg), and the worm's pitch radius and length (mm).
+    peg_radius_mm: float = 1.0
+    cam_disc_mm: float = 3.0
+    cam_radius_mm: float = 9.0
+    cam_turn_deg: float = 60.0
+    worm_radius_mm: float = 3.0
+    worm_length_mm: float = 8.0
     clearance_mm: float = DEFAULT_CLEARANCE_MM
 
     def __post_init__(self) -> None:
@@ -66,6 +78,20 @@ class RingSpec:
         need(at_least(self.finger_travel_mm, self.hook_overlap_mm + self.clearance_mm),
              f"finger_travel_mm {self.finger_travel_mm:g} cannot pull the hooks ({self.hook_overlap_mm:g} mm) "
              "back through the lip")
+        check_dims(self, ("peg_radius_mm", "cam_disc_mm", "cam_radius_mm", "cam_turn_deg", "worm_radius_mm",
+                          "worm_length_mm"))
+        need(at_least(self.cam_disc_mm, 2 * MIN_WALL_MM), f"cam_disc_mm {self.cam_disc_mm:g} is too thin")
+        need(at_most(self.peg_radius_mm, self.finger_mm / 2), f"peg_radius_mm {self.peg_radius_mm:g} is wider than "
+             f"the {self.finger_mm:g} mm finger")
+        need(at_least(self.cam_radius_mm - self.finger_radius_mm - self.cam_slot_half_mm, MIN_WALL_MM),
+             f"cam_radius_mm {self.cam_radius_mm:g} leaves under {MIN_WALL_MM:g} mm outside the cam slots")
+        need(at_least(self.finger_radius_mm - self.finger_travel_mm - self.cam_slot_half_mm, MIN_WALL_MM),
+             f"finger_travel_mm {self.finger_travel_mm:g}: the cam slots reach the disc's centre")
+        # three slots, each spanning cam_turn_deg plus its end caps, must leave webs between them
+        caps = math.degrees(self.cam_slot_half_mm / self.finger_radius_mm
+                            + self.cam_slot_half_mm / (self.finger_radius_mm - self.finger_travel_mm))
+        need(self.cam_turn_deg + caps + 10.0 <= 120.0,
+             f"cam_turn_deg {self.cam_turn_deg:g}: the three cam slots overlap (at most {110.0 - caps:.0f} deg)")
         need(at_least(self.finger_radius_mm - self.finger_mm / 2 - self.finger_travel_mm, 0.5),
              f"lip_radius_mm {self.lip_radius_mm:g} is too small for three {self.finger_mm:g} mm fingers that close "
              f"by {self.finger_travel_mm:g} mm")
@@ -74,6 +100,23 @@ class RingSpec:
     def finger_radius_mm(self) -> float:
         """Radius of the finger bars' centres when open (touching the lip less a clearance)."""
         return self.lip_radius_mm - self.clearance_mm - self.finger_mm / 2
+
+    @property
+    def cam_slot_half_mm(self) -> float:
+        """Half width of the cam disc's slots: the peg's radius plus the clearance, mm."""
+        return self.peg_radius_mm + self.clearance_mm
+
+    def finger_offset_mm(self, disc_deg: float) -> float:
+        """Radial offset of every finger from its spread (holding) position for the cam disc turned by
+        ``disc_deg`` (0 = retracted, ``cam_turn_deg`` = spread; linear: an Archimedean cam), mm:
+        ``-finger_travel_mm`` at 0, 0 at ``cam_turn_deg``."""
+        need(-1e-9 <= disc_deg <= self.cam_turn_deg + 1e-9,
+             f"disc_deg {disc_deg:g} is outside the cam's 0-{self.cam_turn_deg:g} deg")
+        return -self.finger_travel_mm * (1.0 - disc_deg / self.cam_turn_deg)
+
+    def peg_radius_at_mm(self, disc_deg: float) -> float:
+        """Distance of the pegs' axes from the capture axis at ``disc_deg``, mm."""
+        return self.finger_radius_mm + self.finger_offset_mm(disc_deg)
 
     @property
     def undercut_radius_mm(self) -> float:
@@ -137,46 +180,155 @@ class OctRing(Part):
         return cut_all(body, cut + screws)
 
 
+#: The worm gearmotor (N20: 12 x 10 x 24 mm gearbox and motor; x, z, y in the housing) and the length
+#: of bare shaft between its gearbox face and the worm, mm.
+WORM_MOTOR_MM = (12.0, 10.0, 24.0)
+WORM_SHAFT_GAP_MM = 3.5
+
+
+def cam_slot_outline(spec: RingSpec, finger_deg: float, samples: int = 61) -> list[tuple[float, float]]:
+    """(y, z) outline of the cam disc's slot for the finger at ``finger_deg`` (0 = +z; the disc frame:
+    capture axis at y = z = 0, the disc at rest).
+
+    With the disc turned by theta (0 .. ``cam_turn_deg``, positive about +x), the finger's peg, held on
+    its radial line by the housing's slot, sits at radius :meth:`RingSpec.peg_radius_at_mm` (theta);
+    in the disc's frame that point is at angle ``finger_deg - theta``. The slot is that curve (an
+    Archimedean spiral) swept by a circle of the peg's radius plus the clearance, with round ends."""
+    a0 = math.radians(finger_deg)
+    T = math.radians(spec.cam_turn_deg)
+    k = spec.finger_travel_mm / T
+    w = spec.cam_slot_half_mm
+    left, right, ends = [], [], []
+    for i in range(samples):
+        th = T * i / (samples - 1)
+        rho = spec.finger_radius_mm - spec.finger_travel_mm + k * th
+        psi = a0 - th
+        u = (-math.sin(psi), math.cos(psi))
+        v = (math.cos(psi), math.sin(psi))
+        p = (rho * u[0], rho * u[1])
+        t = (k * u[0] + rho * v[0], k * u[1] + rho * v[1])
+        n = math.hypot(*t)
+        t = (t[0] / n, t[1] / n)
+        nn = (-t[1], t[0])
+        left.append((p[0] + w * nn[0], p[1] + w * nn[1]))
+        right.append((p[0] - w * nn[0], p[1] - w * nn[1]))
+        ends.append((p, math.atan2(t[1], t[0])))
+    out = list(left)
+
+    def cap(p, ang0):
+        return [(p[0] + w * math.cos(ang0 - math.pi * j / 12), p[1] + w * math.sin(ang0 - math.pi * j / 12))
+                for j in range(1, 12)]
+
+    (p1, g1), (p0, g0) = ends[-1], ends[0]
+    out += cap(p1, g1 + math.pi / 2)  # round the end (+tangent side)
+    out += list(reversed(right))
+    out += cap(p0, g0 - math.pi / 2)  # round the start (-tangent side)
+    # (the caps' 15 deg chords cut under 1 % of w into the round ends: 0.01 mm at the defaults)
+    return out
+
+
 @dataclass(frozen=True)
 class CapturerHousing(Part):
     """Front capturer housing (frame: x = 0 on the front face, +x outward; mm).
 
     It is screwed to the body's front wall from inside: two screws (``spec.screw_size``) through the
     wall's holes into heat-set inserts in the housing's back face, at :attr:`RingSpec.mount_ys_mm` and
-    the ring's centre height. (The finger drive, a worm on a motor in a pocket of the housing, is not
-    built yet: issue 15.)"""
+    the ring's centre height.
+
+    The finger drive: three radial slots in the front guide the fingers; behind them a slot across the
+    housing, open at the top, takes the cam disc (:class:`CamDisc`: dropped in from above, it turns in
+    the slot's round bottom on its rim); each finger's peg reaches back into one of the disc's three
+    spiral slots. Under the disc a worm (on the shaft of an N20 gearmotor) turns the disc's rim: the
+    motor lies along +y in a pocket open at the housing's +y side (it slides in, worm first, into the
+    worm's bore under the disc). The worm and the disc's rim are represented by their pitch cylinders,
+    ``spec.clearance_mm`` apart (the backlash): gear teeth are left out, their mesh is not modelled."""
 
     spec: RingSpec = RingSpec()
     length_mm: float = 29.0
-    #: The housing's half width (y; 15.5 keeps 0.8 mm round the inserts at the loosest clearance) and
-    #: half height (z about the ring's centre), mm.
+    #: The housing's half width (y; 15.5 keeps 0.8 mm round the inserts at the loosest clearance; on +y
+    #: it reaches the end of the worm motor's pocket) and half height (z about the ring's centre), mm.
     half_width_mm: float = 15.5
     half_height_mm: float = 12.0
     name: ClassVar[str] = "octbot_capturer_housing"
-    description: ClassVar[str] = "OctBot capturer housing: worm-screw bore, finger slots, two mounting inserts"
+    description: ClassVar[str] = ("OctBot capturer housing: finger slots, cam disc slot, worm bore and worm "
+                                  "motor pocket, two mounting inserts")
     print_rotation: ClassVar = (((0.0, 1.0, 0.0), -90.0),)
 
     def validate(self) -> None:
         from .fasteners import thread
 
-        need(self.length_mm >= 20.0, f"length_mm {self.length_mm:g}: the worm-screw housing needs >= 20 mm")
+        need(self.length_mm >= 20.0, f"length_mm {self.length_mm:g}: the capturer housing needs >= 20 mm")
         ins = thread(self.spec.screw_size)
         y = max(abs(v) for v in self.spec.mount_ys_mm)
         need(at_least(self.half_width_mm - y - ins.insert_hole_mm / 2, MIN_WALL_MM),
              f"CapturerHousing.half_width_mm {self.half_width_mm:g} leaves under {MIN_WALL_MM:g} mm round the "
              f"{ins.insert_hole_mm:g} mm mounting inserts at y = +-{y:g} mm")
-        # the inserts stay clear of the worm-screw bore (across y at mid-length) and the carrier bore (on the axis)
-        need(at_least(self.length_mm / 2 - self.worm_bore_radius_mm - ins.insert_hole_depth_mm, MIN_WALL_MM)
+        # the inserts stay clear of the motor pocket and the cam slot (from x = 0) and the carrier bore
+        x0 = min(self.motor_pocket_mm[0], self.cam_slot_x_mm[0])
+        need(at_least(x0 - ins.insert_hole_depth_mm, MIN_WALL_MM)
              and at_least(y - ins.insert_hole_mm / 2 - self.carrier_bore_radius_mm, MIN_WALL_MM),
-             f"CapturerHousing.length_mm {self.length_mm:g}: the mounting inserts reach the worm or carrier bore")
+             f"CapturerHousing.length_mm {self.length_mm:g}: the mounting inserts reach the cam disc, the worm "
+             "motor or the carrier bore")
+        need(at_least(self.spec.centre_z_mm + self.half_height_mm - self.spec.centre_z_mm - self.spec.cam_radius_mm,
+                      MIN_WALL_MM), "the cam disc does not fit under the housing's top")
 
-    #: Radius of the worm wheel / finger carrier bore on the axis, mm.
+    #: Radius of the lightening bore on the axis behind the cam disc, mm.
     carrier_bore_radius_mm: ClassVar[float] = 5.0
 
+    # -- the finger drive (housing frame, mm) -------------------------------------------------
     @property
-    def worm_bore_radius_mm(self) -> float:
-        """The worm screw's bore (across y at mid-length): a 6 mm worm plus the clearance, mm."""
-        return 3.0 + self.spec.clearance_mm
+    def cam_slot_x_mm(self) -> tuple[float, float]:
+        """x range of the slot the cam disc turns in (the disc is ``clearance_mm`` off both faces)."""
+        s = self.spec
+        x1 = self.length_mm - 8.0
+        return (x1 - s.cam_disc_mm - 2 * s.clearance_mm, x1)
+
+    @property
+    def cam_disc_x_mm(self) -> tuple[float, float]:
+        x0, x1 = self.cam_slot_x_mm
+        c = self.spec.clearance_mm
+        return (x0 + c, x1 - c)
+
+    @property
+    def worm_axis_mm(self) -> tuple[float, float]:
+        """(x, z) of the worm's axis (along y): under the disc, its pitch cylinder ``clearance_mm`` from
+        the disc's rim."""
+        s = self.spec
+        x0, x1 = self.cam_disc_x_mm
+        return ((x0 + x1) / 2, s.centre_z_mm - s.cam_radius_mm - s.clearance_mm - s.worm_radius_mm)
+
+    @property
+    def worm_y_mm(self) -> tuple[float, float]:
+        """y range of the worm and the bare shaft behind it (to 0.3 mm off the gearbox face)."""
+        return (-self.spec.worm_length_mm / 2, self.motor_y_mm[0] - 0.3)
+
+    @property
+    def motor_y_mm(self) -> tuple[float, float]:
+        y0 = self.spec.worm_length_mm / 2 + WORM_SHAFT_GAP_MM
+        return (y0, y0 + WORM_MOTOR_MM[2])
+
+    @property
+    def motor_box_mm(self) -> tuple[float, float, float, float, float, float]:
+        """The worm gearmotor's box (x0, x1, y0, y1, z0, z1)."""
+        xw, zw = self.worm_axis_mm
+        a, b = WORM_MOTOR_MM[0] / 2, WORM_MOTOR_MM[1] / 2
+        y0, y1 = self.motor_y_mm
+        return (xw - a, xw + a, y0, y1, zw - b, zw + b)
+
+    @property
+    def motor_pocket_mm(self) -> tuple[float, float, float, float, float, float]:
+        """The pocket: the motor's box plus the clearance, open at the housing's +y side."""
+        c = self.spec.clearance_mm
+        x0, x1, y0, y1, z0, z1 = self.motor_box_mm
+        return (x0 - c, x1 + c, y0 - c, y1 + 1.0, z0 - c, z1 + c)
+
+    @property
+    def extent_mm(self) -> tuple[float, float, float, float]:
+        """(y0, y1, z0, z1) of the housing's block."""
+        zc = self.spec.centre_z_mm
+        _, _, _, y1, z0, _ = self.motor_box_mm
+        return (-self.half_width_mm, max(self.half_width_mm, y1), min(zc - self.half_height_mm, z0 - 1.6),
+                zc + self.half_height_mm)
 
     def insert_points_mm(self) -> list[tuple[float, float]]:
         """(y, z) of the mounting inserts in the back face (housing frame)."""
@@ -190,10 +342,9 @@ class CapturerHousing(Part):
         Lh = self.length_mm
         from .fasteners import thread
 
-        hw, hh = self.half_width_mm, self.half_height_mm
-        body = box(0, Lh, -hw, hw, zc - hh, zc + hh)
-        cut = [cyl(self.worm_bore_radius_mm, 2 * hw + 1, (Lh / 2, -hw - 0.5, zc), Y),  # worm screw
-               cyl(self.carrier_bore_radius_mm, Lh - 10, (3.0, 0, zc), X)]  # worm wheel / finger carrier
+        y0, y1, z0, z1 = self.extent_mm
+        body = box(0, Lh, y0, y1, z0, z1)
+        cut = [cyl(self.carrier_bore_radius_mm, self.cam_slot_x_mm[0] - 3.0 + 0.01, (3.0, 0, zc), X)]
         ins = thread(s.screw_size)
         cut += [cyl(ins.insert_hole_mm / 2, ins.insert_hole_depth_mm + 0.1, (-0.1, y, z), X)
                 for y, z in self.insert_points_mm()]
@@ -204,17 +355,59 @@ class CapturerHousing(Part):
             slot = box(Lh - 8, Lh + 0.1, -a, a, r0, r1)
             cut.append(rotated(slot, X, ang).translate((0, 0, zc)))
         cut.append(box(Lh - 8, Lh - 3, -6, 6, -6 + zc, 6 + zc))
+        # the cam disc's slot: round at the bottom (the disc turns on its rim), open at the top
+        xs0, xs1 = self.cam_slot_x_mm
+        rc = s.cam_radius_mm + s.clearance_mm
+        cut.append(cyl(rc, xs1 - xs0, (xs0, 0, zc), X))
+        cut.append(box(xs0, xs1, -rc, rc, zc, z1 + 0.1))
+        # the worm's bore (blind at -y) and the motor's pocket (open at +y)
+        xw, zw = self.worm_axis_mm
+        wy0, _ = self.worm_y_mm
+        yb0 = wy0 - s.clearance_mm
+        cut.append(cyl(s.worm_radius_mm + s.clearance_mm, self.motor_y_mm[0] - yb0 + 0.01, (xw, yb0, zw), Y))
+        px0, px1, py0, py1, pz0, pz1 = self.motor_pocket_mm
+        cut.append(box(px0, px1, py0, max(py1, y1 + 0.1), pz0, pz1))
         return cut_all(body, cut)
 
 
 @dataclass(frozen=True)
+class CamDisc(Part):
+    """The finger drive's cam disc (frame: housing frame, capture axis at y = z = 0, at rest): a disc
+    of ``spec.cam_radius_mm`` in the housing's cam slot with three spiral slots
+    (:func:`cam_slot_outline`), one per finger peg; turning it by theta sets the fingers' radial
+    offset :meth:`RingSpec.finger_offset_mm` (theta). Its rim is the worm wheel's pitch cylinder (the
+    teeth are left out)."""
+
+    spec: RingSpec = RingSpec()
+    housing_mm: float = 29.0
+    name: ClassVar[str] = "octbot_finger_cam_disc"
+    description: ClassVar[str] = "OctBot capturer cam disc: three spiral slots drive the fingers' pegs, turned by the worm"
+    print_rotation: ClassVar = (((0.0, 1.0, 0.0), -90.0),)
+    print_orientation: ClassVar[str] = "flat on a face, the slots vertical"
+
+    @property
+    def x_mm(self) -> tuple[float, float]:
+        return CapturerHousing(spec=self.spec, length_mm=self.housing_mm).cam_disc_x_mm
+
+    def build(self):
+        from .shapes import X, cut_all, cyl, prism
+
+        s = self.spec
+        x0, x1 = self.x_mm
+        disc = cyl(s.cam_radius_mm, x1 - x0, (x0, 0, 0), X)
+        slots = [prism(cam_slot_outline(s, ang), "YZ", x0 - 0.1, x1 - x0 + 0.2) for ang in (0.0, 120.0, 240.0)]
+        return cut_all(disc, slots)
+
+
+@dataclass(frozen=True)
 class Finger(Part):
-    """One capturer finger (frame: housing frame, finger pointing +z before rotation)."""
+    """One capturer finger (frame: housing frame, finger pointing +z before rotation), with the peg on
+    its tail that runs in the cam disc's slot."""
 
     spec: RingSpec = RingSpec()
     housing_mm: float = 29.0
     name: ClassVar[str] = "octbot_finger"
-    description: ClassVar[str] = "OctBot capturer finger with hook (three per robot)"
+    description: ClassVar[str] = "OctBot capturer finger with hook and cam peg (three per robot)"
     print_rotation: ClassVar = (((1.0, 0.0, 0.0), 90.0),)
 
     @property
@@ -222,17 +415,29 @@ class Finger(Part):
         s = self.spec
         return self.housing_mm + s.lip_mm + s.clearance_mm + s.hook_mm
 
+    @property
+    def peg_x_mm(self) -> tuple[float, float]:
+        """x range of the peg: from 0.5 mm short of the disc's back face to the finger's tail."""
+        s = self.spec
+        d0, _ = CapturerHousing(spec=s, length_mm=self.housing_mm).cam_disc_x_mm
+        return (d0 + 0.5, self.housing_mm - 8 + s.clearance_mm)
+
     def build(self):
-        from .shapes import box, prism
+        from .shapes import X, box, cyl, prism
 
         s = self.spec
         r, a = s.finger_radius_mm, s.finger_mm / 2
         x0 = self.housing_mm - 8 + s.clearance_mm
         xt = self.tip_x_mm
-        bar = box(x0, xt, -a, a, r - a, r + a)
+        # the bar's outer face is rounded to the lip's bore less the clearance: spread, its corners
+        # (at sqrt((r + a)^2 + a^2)) would otherwise reach into the lip at small clearances
+        bar = box(x0, xt, -a, a, r - a, r + a).intersect(
+            cyl(s.lip_radius_mm - s.clearance_mm, xt - x0 + 2.0, (x0 - 1.0, 0, 0), X))
         zt = s.lip_radius_mm + s.hook_overlap_mm
         hook = box(xt - s.hook_mm, xt, -a, a, r - a, zt)
-        body = bar.fuse(hook).clean()
+        p0, p1 = self.peg_x_mm
+        peg = cyl(s.peg_radius_mm, p1 - p0 + 0.5, (p0, 0, r), X)  # 0.5 mm into the bar: one body
+        body = bar.fuse(hook, peg).clean()
         ch = s.hook_chamfer_mm
         if ch > 0:  # the lead-in: the hook's leading outer edge chamfered 45 deg
             body = body.cut(prism([(xt + 0.01, zt - ch - 0.01), (xt + 0.01, zt + 0.01), (xt - ch - 0.01, zt + 0.01)],
@@ -360,16 +565,37 @@ class OctBot(Robot):
                           caster_x_mm=self.caster_x_mm, ring_centre_z_mm=self.ring_spec.centre_z_mm,
                           mount_y_mm=max(self.ring_spec.mount_ys_mm))
 
-    def build_placed(self, fingers_open: bool = False) -> list[Placed]:
+    @property
+    def housing(self) -> CapturerHousing:
+        return CapturerHousing(spec=self.ring_spec, length_mm=self.housing_mm)
+
+    def finger_offset_mm(self, disc_deg: float) -> float:
+        """The fingers' radial offset from spread (holding) for the cam disc at ``disc_deg``
+        (:meth:`RingSpec.finger_offset_mm`: -finger_travel_mm retracted at 0 deg, 0 spread at
+        ``ring_spec.cam_turn_deg``), mm."""
+        return self.ring_spec.finger_offset_mm(disc_deg)
+
+    def disc_deg_for(self, fingers_open: bool) -> float:
+        """The cam disc's angle for the two end states: 0 = fingers retracted (they pass the ring's
+        lip), ``cam_turn_deg`` = fingers spread behind the lip (``fingers_open``, the docked hold)."""
+        return self.ring_spec.cam_turn_deg if fingers_open else 0.0
+
+    def build_placed(self, fingers_open: bool = False, disc_deg: float | None = None) -> list[Placed]:
+        """The parts as assembled. The capturer's cam disc is turned by ``disc_deg`` (0 ..
+        ``ring_spec.cam_turn_deg``) and the fingers sit where it drives them; without ``disc_deg``,
+        at the end ``fingers_open`` names (:meth:`disc_deg_for`)."""
         from .shapes import location
 
         h = self.across_flats_mm / 2
         rs = self.ring_spec
+        deg = self.disc_deg_for(fingers_open) if disc_deg is None else float(disc_deg)
+        shift = rs.finger_offset_mm(deg)
         out = [Placed(self.body, location(), "body"),
                Placed(OctRing(spec=rs), location((-h, 0, 0), 180), "ring"),
-               Placed(CapturerHousing(spec=rs, length_mm=self.housing_mm), location((h, 0, 0)), "housing")]
+               Placed(self.housing, location((h, 0, 0)), "housing"),
+               Placed(CamDisc(spec=rs, housing_mm=self.housing_mm), location((h, 0, rs.centre_z_mm), 0, deg),
+                      "cam_disc")]
         finger = Finger(spec=rs, housing_mm=self.housing_mm)
-        shift = 0.0 if fingers_open else -rs.finger_travel_mm
         for ang in (0.0, 120.0, 240.0):
             loc = location((h, 0, rs.centre_z_mm)) * location((0, 0, 0), 0, ang) * location((0, 0, shift))
             out.append(Placed(finger, loc, "finger"))
@@ -387,10 +613,9 @@ class OctBot(Robot):
         h = self.across_flats_mm / 2
         gap = 0.3
         motor_y = wb - self.wheel_width_mm / 2 - gap - 12.0  # the gearbox face 0.3 mm from the wheel
-        inner = h - self.wall_mm  # the flat walls' inner faces
-        from .fasteners import thread
-
-        head = thread(self.ring_spec.screw_size).shcs_head_height_mm  # the housing screws' heads on the front wall
+        mb = self.housing.motor_box_mm
+        xw, zw = self.housing.worm_axis_mm
+        wy = self.housing.worm_y_mm
         return [
             Component("drive_motor", "micro metal gearmotor (N20: 12 x 10 x 24 mm)", 10.0,
                       ((0.0, -motor_y, axle + 4), (0.0, motor_y, axle + 4)), (12.0, 24.0, 10.0), "box", "motor",
@@ -408,11 +633,14 @@ class OctBot(Robot):
             # under the open top, inside the octagon (a 66 mm square's corners stay inside its walls)
             Component("main_board", "ARM Cortex-M0 board with IMU, colour sensor, IR LEDs/photodiodes", 12.0,
                       ((0.0, 0.0, self.height_mm - 4.0),), (66.0, 66.0, 4.0)),
-            # in the body behind the front wall (and the housing screws' heads), its shaft through the wall
-            # into the housing's worm bore
-            Component("worm_motor", "micro gearmotor driving the capturer's worm screw (through the front wall)", 10.0,
-                      ((inner - head - gap - 5.0, 0.0, self.ring_spec.centre_z_mm),), (10.0, 24.0, 10.0), "box",
-                      "motor", (0.3, 0.3, 0.3)),
+            # in the capturer housing's pocket (open at its +y side), along y under the cam disc
+            Component("worm_motor", "N20 micro gearmotor (12 x 10 x 24 mm) turning the capturer's worm", 10.0,
+                      ((h + (mb[0] + mb[1]) / 2, (mb[2] + mb[3]) / 2, (mb[4] + mb[5]) / 2),),
+                      (mb[1] - mb[0], mb[3] - mb[2], mb[5] - mb[4]), "box", "motor", (0.3, 0.3, 0.3)),
+            Component("worm", f"worm on the worm motor's shaft (pitch diameter {2 * self.ring_spec.worm_radius_mm:g} mm, "
+                      "module 0.5, driving the cam disc's rim)", 1.0,
+                      ((h + xw, (wy[0] + wy[1]) / 2, zw),), (2 * self.ring_spec.worm_radius_mm, wy[1] - wy[0]),
+                      "cyl_y", "motor", (0.7, 0.6, 0.3)),
             Component("fasteners", "M2/M3 screws", 5.0, ((0.0, 0.0, self.height_mm / 2),), (60.0, 60.0, 20.0),
                       "box", "hardware", (0.6, 0.6, 0.6), lump=True),
         ]

@@ -1,6 +1,7 @@
 """OctBot capturer housing: it fastens to the body's front wall (screws from the fastener table into
 heat-set inserts, on the same points as the wall's holes and the ring's), and it is one printable body
-without closed cavities. (The finger drive is not built yet: issue 15.)"""
+without closed cavities; its worm gearmotor slides into a pocket open at the side and its cam disc drops
+into a slot open at the top (the drive's motion: ``test_octbot_drive.py``)."""
 
 from __future__ import annotations
 
@@ -72,3 +73,42 @@ def test_the_housing_is_one_body_without_closed_cavities(robots):
     housing = next(p.part for p in robots["octbot"].placed if p.role == "housing")
     assert len(housing.solid.Solids()) == 1 and len(housing.solid.Shells()) == 1
     assert housing.solid.isValid()
+
+
+def _slide_free(fixed, moving, direction, distance, steps=12) -> list[float]:
+    """Interference (mm^3) of ``moving`` with ``fixed`` at ``steps`` + 1 points along a straight path."""
+    from cubot_cad.docking import intersection_volume
+
+    return [intersection_volume(fixed, moving.translate(tuple(distance * k / steps * d for d in direction)))
+            for k in range(steps + 1)]
+
+
+def test_the_worm_motor_slides_into_its_pocket_from_the_side_and_the_disc_drops_in_from_the_top(robots):
+    """Assembly paths: the N20 worm gearmotor with its worm goes in along -y through the pocket's open
+    side, the cam disc straight down into its slot, each without touching the housing; the motor is a
+    named stand-in with its mass, in the pocket with the clearance all round."""
+    from cubot_cad.docking import manifold_of, to_manifold, union
+
+    r = robots["octbot"]
+    housing = next(p for p in r.placed if p.role == "housing")
+    hm = manifold_of(housing)
+    comps = {c.key: c for c in r.components()}
+    motor, worm = comps["worm_motor"], comps["worm"]
+    assert "N20" in motor.description and motor.unit_mass_g == 10.0 and motor.count == 1
+    assert motor.size_mm == (12.0, 24.0, 10.0) and worm.kind == "cyl_y"
+    drive = union([to_manifold(s) for s in motor.solids() + worm.solids()])
+    y1 = housing.part.extent_mm[1]
+    assert max(_slide_free(hm, drive, (0.0, 1.0, 0.0), y1 - housing.part.worm_y_mm[0] + 1.0)) < 1e-3
+    disc = manifold_of(next(p for p in r.placed if p.role == "cam_disc"))
+    top = housing.part.extent_mm[3]
+    rise = top - (r.ring_spec.centre_z_mm - r.ring_spec.cam_radius_mm) + 1.0
+    assert max(_slide_free(hm, disc, (0.0, 0.0, 1.0), rise)) < 1e-3
+    # (the fingers go in from the front afterwards, pegs into the disc's slots)
+    finger = manifold_of(next(p for p in r.placed if p.role == "finger"))
+    assert max(_slide_free(hm, finger, (1.0, 0.0, 0.0), 15.0)) < 1e-3
+    # and the pocket holds the motor: pushed 0.5 mm up, down, forward or back it meets the housing
+    from cubot_cad.docking import intersection_volume
+
+    m = to_manifold(motor.solids()[0])
+    for d in ((0, 0, 0.5), (0, 0, -0.5), (0.5, 0, 0), (-0.5, 0, 0)):
+        assert intersection_volume(hm, m.translate(d)) > 0.1, d
