@@ -115,7 +115,7 @@ def packaged_fe() -> list[dict]:
     return data if isinstance(data, list) else []
 
 
-def lookup_fe(key: str, cache_dir=None, cls=None):
+def lookup_fe(key: str, cache_dir=None, cls=None, packaged: bool = True):
     """The FE result of ``key`` from the cache or the packaged results (None if neither has it).
     ``cls``: the result class (default :class:`~structure_fem.connector_fe.ConnectorFE`; the side rail's
     and the twist key's are in :mod:`structure_fem.rail_key_fe`)."""
@@ -131,7 +131,7 @@ def lookup_fe(key: str, cache_dir=None, cls=None):
                 return cls.from_dict(d, cache_hit=True), "user cache"
         except (OSError, ValueError, TypeError):
             pass
-    for d in packaged_fe():
+    for d in packaged_fe() if packaged else ():
         if d.get("input_hash") == key:
             try:
                 return cls.from_dict(d, cache_hit=True), f"packaged structure_fem/data/{PACKAGED_FE.name}"
@@ -140,7 +140,8 @@ def lookup_fe(key: str, cache_dir=None, cls=None):
     return None, ""
 
 
-def _fe_rail_key(robot: RobotProperties, which: str, cache_dir=None, compute: bool = False):
+def _fe_rail_key(robot: RobotProperties, which: str, cache_dir=None, compute: bool = False,
+                 packaged: bool = True):
     """``(SideRailFE / TwistKeyFE or None, where it came from or why not)`` for the record's side rail
     (``which="side_rail"``) or twist key (``"top_twist"``): the parametric CuBot that reproduces the
     record (:func:`cubot_for_record`), the FE material of the record's modulus, the default mesh."""
@@ -161,7 +162,7 @@ def _fe_rail_key(robot: RobotProperties, which: str, cache_dir=None, compute: bo
         mesh = rk.FEMesh(rk.KEY_SIZE_MM)
         key = rk.key_input_hash(rk.TwistKeyGeometry.from_cubot(cub), mat, mesh)
         cls, run = rk.TwistKeyFE, (lambda: rk.twist_key_fe(cub, mat, mesh, cache_dir=cache_dir))
-    fe, where = lookup_fe(key, cache_dir, cls)
+    fe, where = lookup_fe(key, cache_dir, cls, packaged)
     if fe is not None:
         return fe, where
     if not compute:
@@ -170,24 +171,24 @@ def _fe_rail_key(robot: RobotProperties, which: str, cache_dir=None, compute: bo
     return run(), "computed now (cached)"
 
 
-def fe_side_rail_for(robot: RobotProperties, cache_dir=None, compute: bool = False):
+def fe_side_rail_for(robot: RobotProperties, cache_dir=None, compute: bool = False, packaged: bool = True):
     """``(SideRailFE or None, where it came from or why not)`` for the record's side rail."""
-    return _fe_rail_key(robot, "side_rail", cache_dir, compute)
+    return _fe_rail_key(robot, "side_rail", cache_dir, compute, packaged)
 
 
-def fe_top_twist_for(robot: RobotProperties, cache_dir=None, compute: bool = False):
+def fe_top_twist_for(robot: RobotProperties, cache_dir=None, compute: bool = False, packaged: bool = True):
     """``(TwistKeyFE or None, where it came from or why not)`` for the record's top twist key."""
-    return _fe_rail_key(robot, "top_twist", cache_dir, compute)
+    return _fe_rail_key(robot, "top_twist", cache_dir, compute, packaged)
 
 
-def fe_front_rear_for(robot: RobotProperties, cache_dir=None, compute: bool = False):
+def fe_front_rear_for(robot: RobotProperties, cache_dir=None, compute: bool = False, packaged: bool = True):
     """``(ConnectorFE or None, where it came from or why not)`` for the record's front-rear coupling."""
     from . import connector_fe as cfe
 
     what, why, key = fe_key(robot)
     if key is None:
         return None, why
-    fe, where = lookup_fe(key, cache_dir)
+    fe, where = lookup_fe(key, cache_dir, packaged=packaged)
     if fe is not None:
         return fe, where
     if not compute:
@@ -487,27 +488,70 @@ def fit_moment_rotation(points, where: str) -> tuple[float, float, int]:
     return 1.0 / slope, max(0.0, mt - slope * mm), n
 
 
-#: The FE results packaged per robot record (:func:`write_packaged_fe`).
+#: The FE results packaged per robot record (:func:`write_packaged_fe`), each with the cold time
+#: it took when last computed (s, this machine), used only to start the longest first.
 PACKAGED_FINDERS = {"cubot": ("fe_front_rear_for", "fe_side_rail_for", "fe_top_twist_for"),
                     "cube-robot": ("fe_front_rear_for",)}
+_EXPECTED_COLD_S = {"fe_front_rear_for": 120.0, "fe_top_twist_for": 66.0, "fe_side_rail_for": 41.0}
 
 
-def write_packaged_fe(cache_dir=None) -> Path:
-    """Write ``structure_fem/data/connector_fe.json``: exactly the FE results that apply to the
-    packaged records (:data:`PACKAGED_FINDERS`: the CuBot's front-rear, side rail and twist key,
-    the Cube Robot's front-rear), from the cache, computing any that is missing. Entries of
-    geometries no packaged record has any more are dropped."""
+def _packaged_task(name: str, finder: str, cache_dir, packaged: bool):
+    """One (robot, coupling) FE in a worker process: ``(fe or None, where, seconds)``."""
+    import time
+
     from cubot_cad.properties import default_properties
 
-    props = default_properties()
-    results = []
-    for name, finders in PACKAGED_FINDERS.items():
-        robot = props.get(name)
-        for finder in finders:
-            fe, where = globals()[finder](robot, cache_dir, compute=True)
-            if fe is None:
-                raise InputError(f"no FE result applies to the packaged {name} record: {where}")
-            results.append(fe)
+    t0 = time.perf_counter()
+    fe, where = globals()[finder](default_properties().get(name), cache_dir, compute=True, packaged=packaged)
+    return fe, where, time.perf_counter() - t0
+
+
+def compute_packaged_fe(cache_dir=None, workers: int = 2, packaged: bool = True, progress=None):
+    """The FE results of :data:`PACKAGED_FINDERS` for the packaged records, in that order, as
+    ``(results, wall_s, per_task)``: each from the cache (or, with ``packaged``, the packaged file)
+    when there, else computed and cached. Missing ones run in ``workers`` processes, longest first
+    (each solve is one single-threaded sparse LU, so two cores give two solves at once).
+    ``packaged=False`` ignores the packaged file (the cold measurement of ``fem bench --cold-fe``).
+    ``progress(done, total, label)`` is called after each task."""
+    import concurrent.futures as cf
+    import multiprocessing as mp
+    import time
+
+    if not (isinstance(workers, int) and workers >= 1):
+        raise InputError(f"workers must be an integer >= 1, got {workers!r}")
+    tasks = [(name, finder) for name, finders in PACKAGED_FINDERS.items() for finder in finders]
+    order = sorted(range(len(tasks)), key=lambda i: -_EXPECTED_COLD_S.get(tasks[i][1], 60.0))
+    out: list = [None] * len(tasks)
+    t0 = time.perf_counter()
+    if workers == 1:
+        for k, i in enumerate(order):
+            out[i] = _packaged_task(*tasks[i], cache_dir, packaged)
+            if progress:
+                progress(k + 1, len(tasks), " ".join(tasks[i]))
+    else:
+        # spawn, not fork: gmsh/OCC keep threads and global state a forked child must not inherit
+        with cf.ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context("spawn")) as ex:
+            futs = {ex.submit(_packaged_task, *tasks[i], cache_dir, packaged): i for i in order}
+            for k, f in enumerate(cf.as_completed(futs)):
+                out[futs[f]] = f.result()
+                if progress:
+                    progress(k + 1, len(tasks), " ".join(tasks[futs[f]]))
+    wall = time.perf_counter() - t0
+    per_task = {f"{name}:{finder.removeprefix('fe_').removesuffix('_for')}": round(o[2], 3)
+                for (name, finder), o in zip(tasks, out, strict=True)}
+    for (name, _finder), (fe, where, _s) in zip(tasks, out, strict=True):
+        if fe is None:
+            raise InputError(f"no FE result applies to the packaged {name} record: {where}")
+    return [o[0] for o in out], wall, per_task
+
+
+def write_packaged_fe(cache_dir=None, workers: int = 2) -> Path:
+    """Write ``structure_fem/data/connector_fe.json``: exactly the FE results that apply to the
+    packaged records (:data:`PACKAGED_FINDERS`: the CuBot's front-rear, side rail and twist key,
+    the Cube Robot's front-rear), from the cache, computing any that is missing
+    (:func:`compute_packaged_fe`, ``workers`` processes). Entries of geometries no packaged record
+    has any more are dropped. The file is replaced atomically, only once every result exists."""
+    results, _wall, _per = compute_packaged_fe(cache_dir, workers)
     tmp = PACKAGED_FE.with_suffix(".tmp")
     tmp.write_text(json.dumps([fe.to_dict() for fe in results], indent=1, sort_keys=True) + "\n")
     tmp.replace(PACKAGED_FE)
@@ -515,4 +559,12 @@ def write_packaged_fe(cache_dir=None) -> Path:
 
 
 if __name__ == "__main__":  # pragma: no cover
-    print(write_packaged_fe())
+    import argparse
+
+    ap = argparse.ArgumentParser(description="compute (or take from the cache) the packaged records' "
+                                             "connector FE and write structure_fem/data/connector_fe.json")
+    ap.add_argument("--workers", type=int, default=2, help="processes for the missing FE solves (default 2)")
+    # through the package name, so the spawned workers import the same module
+    from structure_fem.connector_sources import write_packaged_fe as _write
+
+    print(_write(workers=ap.parse_args().workers))

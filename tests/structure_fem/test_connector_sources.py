@@ -166,3 +166,35 @@ def test_the_cube_robot_front_rear_comes_from_its_packaged_fe():
     robot, notes = cs.resolve(edited)
     assert robot.connector("front_rear").provenance.startswith("hand formula")
     assert "not the parametric CubeRobot" in notes["front_rear"]
+
+
+def test_the_packaged_fe_set_is_gathered_in_the_finders_order_from_one_or_two_processes(tmp_path):
+    """``compute_packaged_fe`` returns one result per (record, coupling) of PACKAGED_FINDERS, in that
+    order, each the packaged one when nothing is missing, whether it runs in one process or two
+    (spawned workers, longest first)."""
+    keys = [e["input_hash"] for e in cs.packaged_fe()]
+    for workers in (1, 2):
+        done: list = []
+        results, wall, per_task = cs.compute_packaged_fe(tmp_path, workers=workers,
+                                                         progress=lambda d, n, label, done=done: done.append((d, n, label)))
+        assert [fe.input_hash for fe in results] == keys
+        assert [d for d, _n, _l in done] == [1, 2, 3, 4] and {n for _d, n, _l in done} == {4}
+        assert set(per_task) == {"cubot:front_rear", "cubot:side_rail", "cubot:top_twist", "cube-robot:front_rear"}
+        assert wall >= 0 and not any(tmp_path.iterdir())  # nothing computed, nothing cached
+
+
+def test_without_the_packaged_file_a_missing_result_is_not_invented(tmp_path):
+    """``packaged=False`` (the cold measurement) does not read the packaged results: a lookup
+    that may not compute finds nothing and says how to compute it."""
+    rec = default_properties().get("cubot")
+    fe, why = cs.fe_front_rear_for(rec, cache_dir=tmp_path, packaged=False)
+    assert fe is None and "computes it" in why
+    fe, why = cs.fe_side_rail_for(rec, cache_dir=tmp_path, packaged=False)
+    assert fe is None and "computes it" in why
+    assert cs.fe_front_rear_for(rec, cache_dir=tmp_path)[0] is not None  # the package has it
+
+
+@pytest.mark.parametrize("workers", [0, -1, 1.5, "2"])
+def test_the_worker_count_is_validated(tmp_path, workers):
+    with pytest.raises(InputError, match="workers"):
+        cs.compute_packaged_fe(tmp_path, workers=workers)
