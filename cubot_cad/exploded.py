@@ -88,7 +88,12 @@ PLANS: dict[str, list[Step]] = {
         Step("2", "drive motors and wheels", None, ("drive_motor", "wheel"), offset_mm=(0, 0, -10), side_mm=20),
         Step("3", "ring on the rear wall", names("octbot_ring"), offset_mm=(-45, 0, 0)),
         Step("4", "capturer housing on the front wall", names("octbot_capturer_housing"), offset_mm=(40, 0, 0)),
-        Step("4 fingers", "fingers in the housing's slots", names("octbot_finger"), offset_mm=(85, 0, 0)),
+        Step("4.1", "cam disc dropped into its slot from above", names("octbot_finger_cam_disc"),
+             offset_mm=(40, 0, 55)),
+        Step("4.2", "worm gearmotor slid into its pocket, worm first (from +y)", None, ("worm_motor", "worm"),
+             offset_mm=(40, 55, 0)),
+        Step("4.3", "fingers into the housing's slots, pegs in the disc's spirals", names("octbot_finger"),
+             offset_mm=(85, 0, 0)),
     ],
     "cube-robot": [
         Step("1", "wheel block, wheels and motors", names("cube_wheel_block"), ("wheel", "drive_motor")),
