@@ -31,7 +31,10 @@ def setup(make_robot, tmp_path):
     return robot, ConnectorSet.from_robot(robot), tmp_path
 
 
-def _call(robot, conn, cache, fn, width=3, rows=5, flexible=True, damping=0.02, structure=Structure("line")):
+LINE = Structure("line")
+
+
+def _call(robot, conn, cache, fn, width=3, rows=5, flexible=True, damping=0.02, structure=LINE):
     return dc.allowance_m(structure, width, robot, damping, rows=rows, connectors=conn, flexible=flexible,
                           cache_dir=cache, compute=fn)
 
