@@ -488,10 +488,10 @@ def fit_moment_rotation(points, where: str) -> tuple[float, float, int]:
     return 1.0 / slope, max(0.0, mt - slope * mm), n
 
 
-#: The FE results packaged per robot record (:func:`write_packaged_fe`), each with the cold time
-#: it took when last computed (s, this machine), used only to start the longest first.
+#: The FE results packaged per robot record (:func:`write_packaged_fe`).
 PACKAGED_FINDERS = {"cubot": ("fe_front_rear_for", "fe_side_rail_for", "fe_top_twist_for"),
                     "cube-robot": ("fe_front_rear_for",)}
+#: Each finder's cold time when last computed (s, this machine): only to start the longest first.
 _EXPECTED_COLD_S = {"fe_front_rear_for": 120.0, "fe_top_twist_for": 66.0, "fe_side_rail_for": 41.0}
 
 
@@ -504,6 +504,14 @@ def _packaged_task(name: str, finder: str, cache_dir, packaged: bool):
     t0 = time.perf_counter()
     fe, where = globals()[finder](default_properties().get(name), cache_dir, compute=True, packaged=packaged)
     return fe, where, time.perf_counter() - t0
+
+
+def _packaged_lookup(name: str, finder: str, cache_dir, packaged: bool):
+    """``(fe, where, 0.0)`` when the result is cached (or packaged), else None: no computing."""
+    from cubot_cad.properties import default_properties
+
+    fe, where = globals()[finder](default_properties().get(name), cache_dir, compute=False, packaged=packaged)
+    return None if fe is None else (fe, where, 0.0)
 
 
 def compute_packaged_fe(cache_dir=None, workers: int = 2, packaged: bool = True, progress=None):
@@ -523,6 +531,10 @@ def compute_packaged_fe(cache_dir=None, workers: int = 2, packaged: bool = True,
     order = sorted(range(len(tasks)), key=lambda i: -_EXPECTED_COLD_S.get(tasks[i][1], 60.0))
     out: list = [None] * len(tasks)
     t0 = time.perf_counter()
+    if workers > 1:  # what is already there is looked up here: spawn workers only for what is missing
+        for i in order:
+            out[i] = _packaged_lookup(*tasks[i], cache_dir, packaged)
+        order = [i for i in order if out[i] is None]
     if workers == 1:
         for k, i in enumerate(order):
             out[i] = _packaged_task(*tasks[i], cache_dir, packaged)
@@ -532,10 +544,14 @@ def compute_packaged_fe(cache_dir=None, workers: int = 2, packaged: bool = True,
         # spawn, not fork: gmsh/OCC keep threads and global state a forked child must not inherit
         with cf.ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context("spawn")) as ex:
             futs = {ex.submit(_packaged_task, *tasks[i], cache_dir, packaged): i for i in order}
+            for k, i in enumerate(i for i in range(len(tasks)) if i not in futs.values()):
+                if progress:
+                    progress(k + 1, len(tasks), " ".join(tasks[i]))
+            done0 = len(tasks) - len(futs)
             for k, f in enumerate(cf.as_completed(futs)):
                 out[futs[f]] = f.result()
                 if progress:
-                    progress(k + 1, len(tasks), " ".join(tasks[futs[f]]))
+                    progress(done0 + k + 1, len(tasks), " ".join(tasks[futs[f]]))
     wall = time.perf_counter() - t0
     per_task = {f"{name}:{finder.removeprefix('fe_').removesuffix('_for')}": round(o[2], 3)
                 for (name, finder), o in zip(tasks, out, strict=True)}
