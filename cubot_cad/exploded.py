@@ -92,8 +92,10 @@ PLANS: dict[str, list[Step]] = {
              offset_mm=(40, 0, 55)),
         Step("4.2", "worm gearmotor slid into its pocket, worm first (from +y)", None, ("worm_motor", "worm"),
              offset_mm=(40, 55, 0)),
-        Step("4.3", "fingers into the housing's slots, pegs in the disc's spirals", names("octbot_finger"),
+        Step("4.3", "fingers into the housing's slots, pegs in the disc's spirals", roles("finger"),
              offset_mm=(85, 0, 0)),
+        Step("4.4", "finger retainer over the hooks, two M2 countersunk screws", roles("retainer"),
+             offset_mm=(130, 0, 0)),
     ],
     "cube-robot": [
         Step("1", "wheel block, wheels and motors", names("cube_wheel_block"), ("wheel", "drive_motor")),

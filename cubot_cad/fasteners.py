@@ -14,7 +14,9 @@ Sources of the numbers (per row below):
 * socket head cap screws ISO 4762: head diameter dk max and head height k max
   (M2 3.8 / 2.0, M2.5 4.5 / 2.5, M3 5.5 / 3.0 mm); button head ISO 7380-1 (M3 only, the
   standard starts at M3: dk 5.7, k 1.65 mm); countersunk ISO 10642 (M3 only, the standard
-  starts at M3: dk 6.72 theoretical, k 1.86 mm, 90 deg);
+  starts at M3: dk 6.72 theoretical, k 1.86 mm, 90 deg); below M3 the countersunk screw is
+  the cross-recessed ISO 7046-1 (= DIN 965), M2: dk actual max 3.8, k max 1.2 mm, 90 deg
+  (:data:`CROSS_COUNTERSUNK_MM`);
 * hex nuts ISO 4032: width across flats s and height m max (M2 4.0 / 1.6, M2.5 5.0 / 2.0,
   M3 5.5 / 2.4 mm);
 * heat-set inserts (brass, knurled, for thermoplastics): ruthex RX-M2x3, RX-M2.5x4,
@@ -69,9 +71,29 @@ THREADS: dict[str, Thread] = {
                  countersunk_head_diameter_mm=6.72, countersunk_head_height_mm=1.86),
 }
 
+#: Cross-recessed countersunk screws ISO 7046-1 (the countersunk head below M3, where ISO 10642 has
+#: none): size -> (head diameter dk actual max, head height k max), mm (source: module docstring).
+CROSS_COUNTERSUNK_MM: dict[str, tuple[float, float]] = {"M2": (3.8, 1.2)}
+
 #: Screw standards the table covers and what each head is called in the BOM.
 STANDARDS = {"ISO 4762": "socket head cap screw", "ISO 7380": "button head screw",
-             "ISO 10642": "countersunk screw", "ISO 4032": "hex nut", "insert": "heat-set insert"}
+             "ISO 10642": "countersunk screw", "ISO 7046-1": "countersunk screw (cross recess)",
+             "ISO 4032": "hex nut", "insert": "heat-set insert"}
+
+#: The screw kinds :func:`bolted` takes.
+SCREW_KINDS = ("ISO 4762", "ISO 7380", "ISO 10642", "ISO 7046-1")
+
+
+def countersunk_head_mm(size: str) -> tuple[float, float, str]:
+    """(head diameter, head height, standard) of the countersunk screw of ``size``: ISO 10642 where the
+    table has it (M3), else ISO 7046-1; :class:`InputError` for a size neither covers."""
+    t = thread(size)
+    if t.countersunk_head_diameter_mm is not None:
+        return t.countersunk_head_diameter_mm, t.countersunk_head_height_mm, "ISO 10642"
+    if size in CROSS_COUNTERSUNK_MM:
+        return (*CROSS_COUNTERSUNK_MM[size], "ISO 7046-1")
+    raise InputError(f"fastener size {size!r} has no countersunk screw in the table "
+                     f"(ISO 10642: M3; ISO 7046-1: {', '.join(CROSS_COUNTERSUNK_MM)})")
 
 
 def thread(size: str) -> Thread:
@@ -146,10 +168,11 @@ def bolted(robot: str, size: str, clamp_mm: float, count: int, where: str, nut: 
     With a nut the screw is the clamp + the nut's height + 1 mm (the shortest preferred length at
     least that long); into an insert, the longest preferred length that stays inside the insert
     (clamp + insert length) and still engages half of it; into a tap hole, the clamp + ``thread_mm``.
-    ``kind`` ISO 10642 (countersunk: its length includes the head) for screws flush with a docking face."""
+    ``kind`` ISO 10642 or, below M3, ISO 7046-1 (countersunk: its length includes the head) for screws
+    flush with a docking face."""
     t = thread(size)
-    if kind not in ("ISO 4762", "ISO 7380", "ISO 10642"):
-        raise InputError(f"screw kind {kind!r} is not ISO 4762, ISO 7380 or ISO 10642")
+    if kind not in SCREW_KINDS:
+        raise InputError(f"screw kind {kind!r} is not one of {', '.join(SCREW_KINDS)}")
     if insert:
         top = clamp_mm + t.insert_length_mm
         fits = [v for v in ISO_4762_LENGTHS_MM if clamp_mm + t.insert_length_mm / 2 <= v <= top + 1e-9]

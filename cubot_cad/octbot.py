@@ -56,6 +56,16 @@ class RingSpec:
     cam_turn_deg: float = 60.0
     worm_radius_mm: float = 3.0
     worm_length_mm: float = 8.0
+    #: The finger retainer (:class:`FingerRetainer`): a plate ``retainer_mm`` thick over the housing's
+    #: front whose slots pass the fingers' bars and hooks but not the shoulders (``shoulder_mm`` wider
+    #: each side) on the fingers' tails, so a finger cannot be pulled out along +x and, its peg held in
+    #: the cam disc, the disc cannot lift out of its open slot. Two countersunk ``retainer_screw_size``
+    #: screws at ``retainer_screw_radius_mm`` from the capture axis (between the fingers, at 60 and
+    #: 300 deg) go into heat-set inserts in the housing's front face.
+    retainer_mm: float = 2.4
+    shoulder_mm: float = 1.0
+    retainer_screw_size: str = "M2"
+    retainer_screw_radius_mm: float = 11.0
     clearance_mm: float = DEFAULT_CLEARANCE_MM
 
     def __post_init__(self) -> None:
@@ -95,6 +105,39 @@ class RingSpec:
         need(at_least(self.finger_radius_mm - self.finger_mm / 2 - self.finger_travel_mm, 0.5),
              f"lip_radius_mm {self.lip_radius_mm:g} is too small for three {self.finger_mm:g} mm fingers that close "
              f"by {self.finger_travel_mm:g} mm")
+        self._check_retainer()
+
+    def _check_retainer(self) -> None:
+        from .fasteners import countersunk_head_mm
+
+        check_dims(self, ("retainer_mm", "shoulder_mm", "retainer_screw_radius_mm"))
+        dk, k, _std = countersunk_head_mm(self.retainer_screw_size)
+        need(at_least(self.retainer_mm - k, MIN_WALL_MM),
+             f"retainer_mm {self.retainer_mm:g} leaves under {MIN_WALL_MM:g} mm under the {self.retainer_screw_size} "
+             f"countersunk heads ({k:g} mm)")
+        need(at_least(self.shoulder_mm - self.clearance_mm, 0.5),
+             f"shoulder_mm {self.shoulder_mm:g}: the fingers' shoulders overlap the retainer's slots by under 0.5 mm "
+             f"at the {self.clearance_mm:g} mm clearance")
+        # the screws sit between the fingers: clear of the retainer's slots (which pass the hooks) by a wall
+        rho, half = self.retainer_screw_radius_mm, self.finger_mm / 2 + self.clearance_mm
+        off = rho * math.sin(math.radians(60.0)) - half - (dk / 2 + self.clearance_mm)
+        need(at_least(off, MIN_WALL_MM),
+             f"retainer_screw_radius_mm {rho:g} puts the {self.retainer_screw_size} screw heads into the finger slots")
+
+    @property
+    def retainer_slot_radii_mm(self) -> tuple[float, float]:
+        """Radial extent of the retainer's finger slots (from the capture axis), mm: from the bars' inner
+        faces fully retracted to the hooks' tops fully spread, each less/plus the clearance (the plate
+        goes on over the hooks at any disc angle)."""
+        r0 = self.finger_radius_mm - self.finger_mm / 2 - self.finger_travel_mm - self.clearance_mm
+        return (r0, self.lip_radius_mm + self.hook_overlap_mm + self.clearance_mm)
+
+    @property
+    def retainer_screw_points_mm(self) -> tuple[tuple[float, float], ...]:
+        """(y, z about the capture axis) of the retainer's two screws: at 60 and 300 deg (the fingers'
+        angles turned by half their spacing; 0 deg = +z, as the fingers), mm."""
+        rho = self.retainer_screw_radius_mm
+        return tuple((-rho * math.sin(math.radians(a)), rho * math.cos(math.radians(a))) for a in (60.0, 300.0))
 
     @property
     def finger_radius_mm(self) -> float:
@@ -250,8 +293,8 @@ class CapturerHousing(Part):
     half_width_mm: float = 15.5
     half_height_mm: float = 12.0
     name: ClassVar[str] = "octbot_capturer_housing"
-    description: ClassVar[str] = ("OctBot capturer housing: finger slots, cam disc slot, worm bore and worm "
-                                  "motor pocket, two mounting inserts")
+    description: ClassVar[str] = ("OctBot capturer housing: finger chambers, cam disc slot, worm bore and worm "
+                                  "motor pocket, two mounting inserts, two retainer inserts")
     print_rotation: ClassVar = (((0.0, 1.0, 0.0), -90.0),)
 
     def validate(self) -> None:
@@ -271,6 +314,29 @@ class CapturerHousing(Part):
              "motor or the carrier bore")
         need(at_least(self.spec.centre_z_mm + self.half_height_mm - self.spec.centre_z_mm - self.spec.cam_radius_mm,
                       MIN_WALL_MM), "the cam disc does not fit under the housing's top")
+        # the retainer's inserts stay clear of the cam slot behind them, the centre pocket and the housing's
+        # edges, and the motor pocket keeps a wall in front of it
+        s = self.spec
+        ri = thread(s.retainer_screw_size).insert_hole_mm / 2
+        need(at_least(self.front_mm - thread(s.retainer_screw_size).insert_hole_depth_mm - self.cam_slot_x_mm[1],
+                      MIN_WALL_MM),
+             f"RingSpec.retainer_mm {s.retainer_mm:g}: the retainer's inserts reach the cam disc's slot")
+        y0, y1, z0, z1 = self.extent_mm
+        for y, z in s.retainer_screw_points_mm:
+            need(at_least(max(abs(y), abs(z)) - ri - self.CENTRE_POCKET_HALF_MM, MIN_WALL_MM)
+                 and at_least(min(y - y0, y1 - y, s.centre_z_mm + z - z0, z1 - s.centre_z_mm - z) - ri, MIN_WALL_MM),
+                 f"RingSpec.retainer_screw_radius_mm {s.retainer_screw_radius_mm:g}: the retainer's inserts leave "
+                 f"under {MIN_WALL_MM:g} mm of wall")
+        need(at_least(self.front_mm - self.motor_pocket_mm[1], MIN_WALL_MM),
+             f"RingSpec.retainer_mm {s.retainer_mm:g} leaves under {MIN_WALL_MM:g} mm in front of the worm motor")
+
+    #: Half size (y, z about the capture axis) of the pocket behind the finger slots, mm.
+    CENTRE_POCKET_HALF_MM: ClassVar[float] = 6.0
+
+    @property
+    def front_mm(self) -> float:
+        """x of the housing's own front face: the retainer plate (``spec.retainer_mm``) takes the rest."""
+        return self.length_mm - self.spec.retainer_mm
 
     #: Radius of the lightening bore on the axis behind the cam disc, mm.
     carrier_bore_radius_mm: ClassVar[float] = 5.0
@@ -343,18 +409,25 @@ class CapturerHousing(Part):
         from .fasteners import thread
 
         y0, y1, z0, z1 = self.extent_mm
-        body = box(0, Lh, y0, y1, z0, z1)
+        body = box(0, self.front_mm, y0, y1, z0, z1)
         cut = [cyl(self.carrier_bore_radius_mm, self.cam_slot_x_mm[0] - 3.0 + 0.01, (3.0, 0, zc), X)]
         ins = thread(s.screw_size)
         cut += [cyl(ins.insert_hole_mm / 2, ins.insert_hole_depth_mm + 0.1, (-0.1, y, z), X)
                 for y, z in self.insert_points_mm()]
+        # the fingers' chambers behind the retainer: as wide as their shoulders plus the clearance
+        xf = self.front_mm
         r0 = s.finger_radius_mm - s.finger_mm / 2 - s.finger_travel_mm - s.clearance_mm
         r1 = s.finger_radius_mm + s.finger_mm / 2 + s.clearance_mm
-        a = s.finger_mm / 2 + s.clearance_mm
+        a = s.finger_mm / 2 + s.shoulder_mm + s.clearance_mm
         for ang in (0.0, 120.0, 240.0):
-            slot = box(Lh - 8, Lh + 0.1, -a, a, r0, r1)
+            slot = box(Lh - 8, xf + 0.1, -a, a, r0, r1)
             cut.append(rotated(slot, X, ang).translate((0, 0, zc)))
-        cut.append(box(Lh - 8, Lh - 3, -6, 6, -6 + zc, 6 + zc))
+        p = self.CENTRE_POCKET_HALF_MM
+        cut.append(box(Lh - 8, xf + 0.1, -p, p, -p + zc, p + zc))
+        # the retainer's inserts in the front face
+        ri = thread(s.retainer_screw_size)
+        cut += [cyl(ri.insert_hole_mm / 2, ri.insert_hole_depth_mm + 0.1, (xf + 0.1, y, zc + z), (-1.0, 0.0, 0.0))
+                for y, z in s.retainer_screw_points_mm]
         # the cam disc's slot: round at the bottom (the disc turns on its rim), open at the top
         xs0, xs1 = self.cam_slot_x_mm
         rc = s.cam_radius_mm + s.clearance_mm
@@ -368,6 +441,46 @@ class CapturerHousing(Part):
         px0, px1, py0, py1, pz0, pz1 = self.motor_pocket_mm
         cut.append(box(px0, px1, py0, max(py1, y1 + 0.1), pz0, pz1))
         return cut_all(body, cut)
+
+
+@dataclass(frozen=True)
+class FingerRetainer(Part):
+    """The plate over the capturer housing's front (housing frame, from ``housing.front_mm`` to the
+    housing's length, mm): three radial slots as wide as the fingers' bars plus the clearance and long
+    enough for their hooks (it goes on over the hooks, from the front, after the fingers), too narrow
+    for the shoulders on the fingers' tails, which bear on its back face if a finger is pulled along
+    +x; two countersunk screws (``spec.retainer_screw_size``, flush with the docking face) into the
+    housing's inserts. The docked ring's face bears on its front."""
+
+    spec: RingSpec = RingSpec()
+    housing_mm: float = 29.0
+    name: ClassVar[str] = "octbot_finger_retainer"
+    description: ClassVar[str] = ("OctBot capturer finger retainer: front plate, slots pass the fingers' bars and "
+                                  "hooks but not their shoulders, two countersunk screws")
+    print_rotation: ClassVar = (((0.0, 1.0, 0.0), -90.0),)
+    print_orientation: ClassVar[str] = "flat, back face down (the countersinks open upward)"
+
+    @property
+    def housing(self) -> CapturerHousing:
+        return CapturerHousing(spec=self.spec, length_mm=self.housing_mm)
+
+    def build(self):
+        from .fasteners import clearance_hole_mm, countersunk_head_mm
+        from .shapes import X, box, cone, cut_all, cyl, rotated
+
+        s, hs = self.spec, self.housing
+        zc, Lh, xf = s.centre_z_mm, self.housing_mm, hs.front_mm
+        y0, y1, z0, z1 = hs.extent_mm
+        plate = box(xf, Lh, y0, y1, z0, z1)
+        r0, r1 = s.retainer_slot_radii_mm
+        a = s.finger_mm / 2 + s.clearance_mm
+        cut = [rotated(box(xf - 0.1, Lh + 0.1, -a, a, r0, r1), X, ang).translate((0, 0, zc)) for ang in (0.0, 120.0, 240.0)]
+        rc = clearance_hole_mm(s.retainer_screw_size) / 2
+        R = countersunk_head_mm(s.retainer_screw_size)[0] / 2 + s.clearance_mm
+        for y, z in s.retainer_screw_points_mm:
+            cut.append(cyl(rc, Lh - xf + 0.2, (xf - 0.1, y, zc + z), X))
+            cut.append(cone(R + 0.1, rc, R + 0.1 - rc, (Lh + 0.1, y, zc + z), (-1.0, 0.0, 0.0)))  # flush head
+        return cut_all(plate, cut)
 
 
 @dataclass(frozen=True)
@@ -407,7 +520,8 @@ class Finger(Part):
     spec: RingSpec = RingSpec()
     housing_mm: float = 29.0
     name: ClassVar[str] = "octbot_finger"
-    description: ClassVar[str] = "OctBot capturer finger with hook and cam peg (three per robot)"
+    description: ClassVar[str] = ("OctBot capturer finger with hook, cam peg and the shoulders the retainer holds "
+                                  "(three per robot)")
     print_rotation: ClassVar = (((1.0, 0.0, 0.0), 90.0),)
 
     @property
@@ -437,7 +551,11 @@ class Finger(Part):
         hook = box(xt - s.hook_mm, xt, -a, a, r - a, zt)
         p0, p1 = self.peg_x_mm
         peg = cyl(s.peg_radius_mm, p1 - p0 + 0.5, (p0, 0, r), X)  # 0.5 mm into the bar: one body
-        body = bar.fuse(hook, peg).clean()
+        # the shoulders: the tail widened by shoulder_mm each side up to the clearance short of the retainer
+        xs = self.housing_mm - s.retainer_mm - s.clearance_mm
+        shoulder = box(x0, xs, -a - s.shoulder_mm, a + s.shoulder_mm, r - a, r + a).intersect(
+            cyl(s.lip_radius_mm - s.clearance_mm, xs - x0 + 2.0, (x0 - 1.0, 0, 0), X))
+        body = bar.fuse(hook, peg, shoulder).clean()
         ch = s.hook_chamfer_mm
         if ch > 0:  # the lead-in: the hook's leading outer edge chamfered 45 deg
             body = body.cut(prism([(xt + 0.01, zt - ch - 0.01), (xt + 0.01, zt + 0.01), (xt - ch - 0.01, zt + 0.01)],
@@ -599,6 +717,7 @@ class OctBot(Robot):
         for ang in (0.0, 120.0, 240.0):
             loc = location((h, 0, rs.centre_z_mm)) * location((0, 0, 0), 0, ang) * location((0, 0, shift))
             out.append(Placed(finger, loc, "finger"))
+        out.append(Placed(FingerRetainer(spec=rs, housing_mm=self.housing_mm), location((h, 0, 0)), "retainer"))
         seat = CasterSeat(ball_diameter_mm=self.caster_ball_mm, wheel_exposed_mm=self.wheel_exposed_mm,
                           outer_diameter_mm=self.caster_ball_mm + 4, screw_depth_mm=self.caster_screw_depth_mm,
                    clearance_mm=self.clearance_mm)
@@ -653,6 +772,11 @@ class OctBot(Robot):
         out += bolted(n, rs.screw_size, self.wall_mm, len(rs.mount_ys_mm),
                       "capturer housing: from inside the body through the front wall into the housing's inserts",
                       insert=True)
+        from .fasteners import countersunk_head_mm
+
+        out += bolted(n, rs.retainer_screw_size, rs.retainer_mm, len(rs.retainer_screw_points_mm),
+                      "finger retainer: flush through the plate into the housing's front inserts", insert=True,
+                      kind=countersunk_head_mm(rs.retainer_screw_size)[2])
         if self.caster_screw_depth_mm > 0:
             out += bolted(n, rs.screw_size, self.floor_mm, 2, "caster seats (into the seat's tap hole)",
                           thread_mm=self.caster_screw_depth_mm)
