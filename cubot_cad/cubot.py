@@ -35,6 +35,7 @@ from .connectors import (
     latch_set_parts,
     pin_set_parts,
 )
+from .latch_drive import SHAFT_INTO_COUPLER_MM, LatchDriveSpec
 from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, at_least, at_most, check_clearance, need
 from .robot import Placed, Robot
 from .twist import STANDIN_GAP_MM, KeyBearing, TwistDriveSpec, TwistKey, servo_component
@@ -95,11 +96,14 @@ class CuBotBody(Part):
     #: the two servo bosses (``drive.boss_mm`` square, up to the servo's tabs, an M2 tap hole each; the
     #: one beside the key's shaft is cut round it with the clearance).
     drive: TwistDriveSpec = TwistDriveSpec()
+    #: The latch servos' frames (:mod:`cubot_cad.latch_drive`): a plate behind each latch servo's tabs,
+    #: from the floor up, with a window for its case and M2 tap holes for its tab screws.
+    latch: LatchDriveSpec = LatchDriveSpec()
     clearance_mm: float = DEFAULT_CLEARANCE_MM
     name: ClassVar[str] = "cubot_body"
     description: ClassVar[str] = ("CuBot body: hollow shell, pin/latch holes, rail IR holes, rail insert bosses, 8 IR windows, "
                                   "edge-detector windows, wheel slots, caster screw holes, twist-key shaft hole, "
-                                  "key-bearing screw holes, two twist-servo bosses")
+                                  "key-bearing screw holes, two twist-servo bosses, two latch-servo frames")
 
     def validate(self) -> None:
         from .fasteners import thread
@@ -128,6 +132,26 @@ class CuBotBody(Part):
              f"{MIN_WALL_MM:g} mm round its tap hole beside the key's shaft")
         need(at_least(d.tab_z_mm - self.floor_mm, d.tab_tap_depth_mm() + MIN_WALL_MM),
              f"TwistDriveSpec.hub_top_mm {d.hub_top_mm:g}: the servo bosses are shorter than their tap holes")
+        self.latch.check_frames(self.latch_stack_end_mm, self.latch_blocks_yz_mm, self.floor_mm)
+
+    def horn_sweep(self):
+        """The twist servo's horn swept through a turn (a cylinder about the key's axis, its arms' reach
+        and height plus :data:`~cubot_cad.twist.STANDIN_GAP_MM`), kept free of the latch-servo frames."""
+        from .shapes import Z, cyl
+
+        d, g = self.drive, STANDIN_GAP_MM
+        return cyl(d.horn.arm_length_mm + g, d.horn.height_mm + 2 * g, (0.0, self.y_centre_mm, d.hub_top_mm - g), Z)
+
+    @property
+    def latch_stack_end_mm(self) -> float:
+        """x where the rear latch stacks (wall + plates a, b, c, e) end inside the body."""
+        return -self.length_mm / 2 + self.fr.latch_stack_mm
+
+    @property
+    def latch_blocks_yz_mm(self) -> list[tuple[float, float]]:
+        """(y, z) of the rear latch blocks' centres (their D-shafts' axes)."""
+        yc = self.y_centre_mm
+        return [(yc - self.block_y_mm, self.block_z_mm), (yc + self.block_y_mm, self.block_z_mm)]
 
     @property
     def servo_boss_inner_mm(self) -> float:
@@ -203,7 +227,8 @@ class CuBotBody(Part):
         yc = self.y_centre_mm
         y0, y1 = yc - W / 2, yc + W / 2
         shell = box(-L / 2, L / 2, y0, y1, 0, H).cut(box(-L / 2 + w, L / 2 - w, y0 + w, y1 - w, f, H + 1))
-        shell = fuse_all([shell] + self._bosses() + self._servo_bosses() + self._rail_bosses())
+        frames = self.latch.frames(self.latch_stack_end_mm, self.latch_blocks_yz_mm, f, [self.horn_sweep()])
+        shell = fuse_all([shell] + self._bosses() + self._servo_bosses() + self._rail_bosses() + frames)
         ins = thread(self.top.screw_size)
         cut = [cyl(ins.insert_hole_mm / 2, ins.insert_hole_depth_mm + 0.1, (x, y, H - ins.insert_hole_depth_mm), Z)
                for x, y in self.cover_screw_points()]
@@ -279,6 +304,7 @@ class CuBot(Robot):
     rail: RailSpec | None = field(default=None)
     top: TopTwistSpec | None = field(default=None)
     drive: TwistDriveSpec | None = field(default=None)
+    latch: LatchDriveSpec | None = field(default=None)
 
     name: ClassVar[str] = "cubot"
     title: ClassVar[str] = "CuBot"
@@ -296,7 +322,7 @@ class CuBot(Robot):
         need(self.wall_mm >= MIN_WALL_MM, f"wall_mm {self.wall_mm:g} is thinner than two nozzle widths ({MIN_WALL_MM:g} mm)")
         need(self.floor_mm >= MIN_WALL_MM, f"floor_mm {self.floor_mm:g} is thinner than two nozzle widths ({MIN_WALL_MM:g} mm)")
         fr, rail, top, drive = self.fr_spec, self.rail_spec, self.top_spec, self.drive_spec
-        for spec, nm in ((fr, "fr"), (rail, "rail"), (top, "top"), (drive, "drive")):
+        for spec, nm in ((fr, "fr"), (rail, "rail"), (top, "top"), (drive, "drive"), (self.latch_spec, "latch")):
             need(abs(spec.clearance_mm - self.clearance_mm) < 1e-12,
                  f"{nm}.clearance_mm {spec.clearance_mm:g} differs from clearance_mm {self.clearance_mm:g} "
                  "(one print clearance for every mating pair)")
@@ -365,8 +391,9 @@ class CuBot(Robot):
         z = comps["zigbee"]
         z_top = z.positions_mm[0][2] + z.size_mm[2] / 2
         need(at_most(z_top, self.body_height_mm - STANDIN_GAP_MM),
-             f"TwistDriveSpec: the {d.servo} servo ({d.servo_top_mm:.2f} mm high) leaves no room for the main board "
-             f"and the ZigBee module under the cover (hub_top_mm {d.hub_top_mm:g})")
+             f"TwistDriveSpec: the {d.servo} twist servo ({d.servo_top_mm:.2f} mm high) or the latch servos' tabs "
+             f"(block_z_mm {self.block_z_mm:g}) leave no room for the main board and the ZigBee module under the cover "
+             f"(hub_top_mm {d.hub_top_mm:g})")
         lip_under = top.stand_mm - top.collar_mm - top.lip_mm  # the lower robot's locking-key lip, below us
         need(at_most(d.ring_mm, lip_under - top.clearance_mm),
              f"TwistDriveSpec: the {d.ring_mm:g} mm bearing ring under the floor reaches the lower robot's locking "
@@ -403,6 +430,19 @@ class CuBot(Robot):
     @cached_property
     def top_spec(self) -> TopTwistSpec:
         return self.top or TopTwistSpec(stand_mm=self.wheel_exposed_mm, clearance_mm=self.clearance_mm)
+
+    @cached_property
+    def latch_spec(self) -> LatchDriveSpec:
+        """The latch servos (default: the servo table's SG90) and their frames: the case hangs down from
+        the axle where it then stays :data:`STANDIN_GAP_MM` above the drive motors and the twist horn
+        (the boards above stay low), else it stands up."""
+        if self.latch:
+            return self.latch
+        down = LatchDriveSpec(clearance_mm=self.clearance_mm, case_up=False)
+        above = max(self.motor_top_mm, self.drive_spec.hub_top_mm + self.drive_spec.horn.height_mm) + STANDIN_GAP_MM
+        fits = (down.case_mm(0.0, 0.0, self.block_z_mm)[4] >= above  # the tabs stand clear of both, beside them
+                and down.tabs_mm(0.0, 0.0, self.block_z_mm)[4] >= self.floor_mm + MIN_WALL_MM)
+        return down if fits else LatchDriveSpec(clearance_mm=self.clearance_mm)
 
     @cached_property
     def drive_spec(self) -> TwistDriveSpec:
@@ -457,7 +497,7 @@ class CuBot(Robot):
                          wheel_base_mm=self.wheel_base_mm, caster_x_mm=self.caster_x_mm,
                          block_y_mm=self.block_y_mm, block_z_mm=self.block_z_mm, rail_z_mm=self.rail_z_mm,
                          fr=self.fr_spec, rail=self.rail_spec, top=self.top_spec, drive=self.drive_spec,
-                         clearance_mm=self.clearance_mm)
+                         latch=self.latch_spec, clearance_mm=self.clearance_mm)
 
     def key_turn_deg(self, key_turned: bool) -> float:
         """Clockwise turn of the twist key: 0 open (aligned with a cross hole), ``twist_deg`` locked."""
@@ -504,11 +544,9 @@ class CuBot(Robot):
 
     def drive_parts(self) -> list[tuple[str, str, str, int]]:
         fr = self.fr_spec
-        length = fr.rear_plate_mm + fr.separation_mm + 6.0  # through the bearing and the blade, into the coupler
+        length = fr.rear_plate_mm + fr.separation_mm + SHAFT_INTO_COUPLER_MM  # through bearing and blade, into the coupler
         h, d = self.drive_spec.horn, self.drive_spec
-        return [("latch_shaft", "steel D-shaft (0.5 mm flat) with a coupler onto the latch servo's output",
-                 f"diameter {fr.drive_shaft_mm:g} x {length:.0f} mm, {fr.drive_flat_mm:g} mm across the flat",
-                 len(self.block_ys_mm)),
+        return self.latch_spec.drive_parts(fr.drive_shaft_mm, fr.drive_flat_mm, length, len(self.block_ys_mm)) + [
                 ("twist_horn", f"{h.name} supplied with the {d.servo} (its spline fits), screwed to the twist key's "
                  f"hub face; drill its innermost arm holes ({h.hole_radii_mm[0]:g} mm from the centre) to 2.4 mm",
                  f"{2 * h.arm_length_mm:g} mm tip to tip, {h.height_mm:g} mm thick, {h.spline} spline", 1)]
@@ -580,6 +618,7 @@ class CuBot(Robot):
                 + self.rail_screw_use(True) + self.rail_screw_use(False)
                 + self.drive_spec.ring_screws(self.floor_mm)
                 + [self.drive_spec.horn_screw(), self.drive_spec.tab_screw()]
+                + self.latch_spec.tab_screws(n, blocks)
                 + bolted(n, "M3", self.floor_mm, 2, "caster seats (screw from inside into the seat's tap hole)",
                          thread_mm=3.0))
 
@@ -595,7 +634,9 @@ class CuBot(Robot):
         the ZigBee module lie above the servo (at least :data:`~cubot_cad.twist.STANDIN_GAP_MM` apart)."""
         yc, H_b, L = self.y_centre_mm, self.body_height_mm, self.length_mm
         drv = self.drive_spec
-        board_z = max(H_b - 22.0, drv.servo_top_mm + STANDIN_GAP_MM + 4.0)
+        body = self.body
+        latch_top = max(self.latch_spec.tabs_mm(body.latch_stack_end_mm, y, z)[5] for y, z in body.latch_blocks_yz_mm)
+        board_z = max(H_b - 22.0, drv.servo_top_mm + STANDIN_GAP_MM + 4.0, latch_top + STANDIN_GAP_MM + 4.0)
         zigbee_z = max(H_b - 14.0, board_z + 4.0 + STANDIN_GAP_MM + 2.5)
         near, _far = drv.boss_xs_mm()
         bat_x0 = max(drv.horn.arm_length_mm, near + drv.boss_mm / 2) + STANDIN_GAP_MM
@@ -629,9 +670,7 @@ class CuBot(Robot):
                       (4.0, 12.0, 8.0)),
             Component("ir_pair_board_side", "IR LED + photodiode pair board (side walls)", 1.5, tuple(ir_side),
                       (12.0, 4.0, 8.0)),
-            Component("latch_servo", "micro servo driving a latch blade", 4.3,
-                      tuple((-L / 2 + self.fr_spec.latch_depth_mm + 12, y, self.block_z_mm)
-                            for y in self.block_ys_mm), (18.0, 12.0, 16.0), "box", "motor", (0.3, 0.3, 0.3)),
+            self.latch_spec.component(body.latch_stack_end_mm, body.latch_blocks_yz_mm),
             servo_component(drv, self.key_axis_mm),
             Component("edge_detector", "IR reflective edge detector (bottom front)", 1.0,
                       ((L / 2 - self.wall_mm - 6, yc - 30, self.floor_mm + 3), (L / 2 - self.wall_mm - 6, yc + 30, self.floor_mm + 3)),

@@ -78,6 +78,8 @@ PLANS: dict[str, list[Step]] = {
              offset_mm=(30, 0, 95), axis=(1, 0, 0), spread=4.0, letters=True),
         Step("6", "rear connectors: latch stack a-b-c-(d)-e", roles("latchset", "blade"),
              offset_mm=(-30, 0, 95), axis=(-1, 0, 0), spread=4.0, letters=True),
+        Step("6.1", "latch servos onto their frames (tabs screwed on), couplers onto the D-shafts", None,
+             ("latch_servo",), offset_mm=(0, 0, 80)),
         Step("7", "side rails", roles("rail"), side_mm=40, offset_mm=(0, 0, 0)),
         Step("9", "cover, then the locking key", names("cover_cross_hole"), offset_mm=(0, 0, 175)),
         Step("9 key", "locking key (after docking)", names("locking_key"), offset_mm=(0, 0, 215)),

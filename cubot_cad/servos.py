@@ -107,10 +107,14 @@ class Servo:
         c = -self.axle_to_centre_mm
         return (c + self.hole_spacing_mm / 2, c - self.hole_spacing_mm / 2)
 
+    def describe(self, duty: str) -> str:
+        """The bill of materials' words for this servo doing ``duty``."""
+        return (f"{self.maker} {self.name} micro servo ({self.gears} gears, {self.mass_g:g} g, stall "
+                f"{self.stall_torque_kgf_cm:g} kgf cm at 4.8 V) {duty}")
+
     @property
     def description(self) -> str:
-        return (f"{self.maker} {self.name} micro servo ({self.gears} gears, {self.mass_g:g} g, stall "
-                f"{self.stall_torque_kgf_cm:g} kgf cm at 4.8 V) turning the cross key")
+        return self.describe("turning the cross key")
 
 
 #: The 20-tooth (Futaba-compatible micro) double-arm horn (source: module docstring).

@@ -47,6 +47,7 @@ from typing import ClassVar
 
 from .components import Component
 from .connectors import TopTwistSpec, _cross, _cross_taper
+from .errors import InputError
 from .part import (
     DEFAULT_CLEARANCE_MM,
     MIN_WALL_MM,
@@ -385,27 +386,53 @@ class KeyBearing(Part):
 @dataclass(frozen=True)
 class ServoStandIn(Component):
     """A servo from :mod:`cubot_cad.servos` as a component: mass and inertia of its case (a box at
-    ``positions_mm``), stand-in solid = case + tabs (with their holes). It hangs upside down: the
-    output spline points down from ``axle_mm`` (robot frame, on the case face), the case extends
-    along -x."""
+    each of ``positions_mm``), stand-in solid = case + tabs (with their holes), one per position.
+
+    ``output`` says which way it is mounted: ``"-z"`` hangs upside down (the twist servo: the output
+    spline points down from the case face, the case extends along -x from the axle; ``size_mm`` =
+    case length, width, height); ``"-x"`` points its output at -x (a latch servo: the case extends +x
+    from the face and upward from the axle, the tabs in a y-z plane; ``size_mm`` = case height, width,
+    length); ``"-x down"`` the same with the case downward from the axle."""
 
     servo_model: str = "SG90"
-    axle_mm: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    output: str = "-z"
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.output not in ("-z", "-x", "-x down"):
+            raise InputError(f"component {self.key}: servo output {self.output!r} is not -z, -x or '-x down'")
+
+    def axles_mm(self) -> list[tuple[float, float, float]]:
+        """Where each servo's output axis meets its case face (robot frame)."""
+        from .servos import servo
+
+        sv = servo(self.servo_model)
+        if self.output == "-z":
+            return [(x + sv.axle_to_centre_mm, y, z - sv.case_height_mm / 2) for x, y, z in self.positions_mm]
+        dz = -sv.axle_to_centre_mm if self.output == "-x" else sv.axle_to_centre_mm
+        return [(x - sv.case_height_mm / 2, y, z + dz) for x, y, z in self.positions_mm]
 
     def solids(self):
         from .servos import servo
-        from .shapes import Z, box, cut_all, cyl
+        from .shapes import X, Y, Z, box, cut_all, cyl, rotated
 
         sv = servo(self.servo_model)
-        ax, ay, az = self.axle_mm
-        near = ax + sv.axle_from_end_mm
-        centre = ax - sv.axle_to_centre_mm
-        W = sv.case_width_mm / 2
-        case = box(near - sv.case_length_mm, near, ay - W, ay + W, az, az + sv.case_height_mm)
-        zt = az + sv.tab_from_face_mm
-        tabs = box(centre - sv.tab_length_mm / 2, centre + sv.tab_length_mm / 2, ay - W, ay + W, zt, zt + sv.tab_mm)
-        holes = [cyl(sv.tab_hole_mm / 2, sv.tab_mm + 0.2, (ax + dx, ay, zt - 0.1), Z) for dx in sv.hole_offsets_mm()]
-        return [cut_all(case.fuse(tabs).clean(), holes)]
+        out = []
+        for ax, ay, az in self.axles_mm():
+            near = ax + sv.axle_from_end_mm
+            centre = ax - sv.axle_to_centre_mm
+            W = sv.case_width_mm / 2
+            case = box(near - sv.case_length_mm, near, ay - W, ay + W, az, az + sv.case_height_mm)
+            zt = az + sv.tab_from_face_mm
+            tabs = box(centre - sv.tab_length_mm / 2, centre + sv.tab_length_mm / 2, ay - W, ay + W, zt, zt + sv.tab_mm)
+            holes = [cyl(sv.tab_hole_mm / 2, sv.tab_mm + 0.2, (ax + dx, ay, zt - 0.1), Z) for dx in sv.hole_offsets_mm()]
+            solid = cut_all(case.fuse(tabs).clean(), holes)
+            if self.output != "-z":  # built hanging (output -z, case along -x), turned +90 deg about y at the axle
+                solid = rotated(solid, Y, 90.0, (ax, ay, az))
+            if self.output == "-x down":  # and half a turn about its output axis (the case symmetric in y)
+                solid = rotated(solid, X, 180.0, (ax, ay, az))
+            out.append(solid)
+        return out
 
 
 def servo_component(drive: TwistDriveSpec, axis_xy: tuple[float, float]) -> ServoStandIn:
@@ -416,7 +443,7 @@ def servo_component(drive: TwistDriveSpec, axis_xy: tuple[float, float]) -> Serv
     centre = (x - sv.axle_to_centre_mm, y, z + sv.case_height_mm / 2)
     return ServoStandIn("twist_servo", sv.description, sv.mass_g, (centre,),
                         (sv.case_length_mm, sv.case_width_mm, sv.case_height_mm), "box", "motor", (0.3, 0.3, 0.3),
-                        servo_model=sv.name, axle_mm=(x, y, z))
+                        servo_model=sv.name)
 
 
 @dataclass(frozen=True)
