@@ -36,12 +36,20 @@ The fit only says how far the *platform bolt's* hand estimate is off. ``calibrat
 is a what-if: it multiplies the CuBot's hand-formula rotational stiffness by the ratio fitted /
 estimated of the platform bolt (the estimate was off by that factor for the platform, assume
 the same for the robot), an override the studies report beside the default.
+
+**The FE check.** The bolt itself has a 3D FE model of the platform's CAD
+(:mod:`structure_fem.platform_bolt_fe`); :func:`fe_comparison` puts it beside each reading's fit
+(``Calibration.fe``, ``to_dict()["fe"]`` and ``["fe_statement"]``): the FE's whole-pitch stiffness
+(joint + the two half plates, centre to centre, since the fit's platforms are rigid), the ratio
+FE / fitted, whether the FE is stiffer or softer and by what factor, and the five-platform tip
+the model gives with the FE. It is the only comparison of the connector FE with a measurement;
+nothing is tuned to it.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 from cubot_cad.properties import ConnectorProperties, RobotProperties, RobotPropertiesFile
 
@@ -60,8 +68,8 @@ ROBOT_CONNECTORS_STATEMENT = (
     "The CuBot's connectors do not come from this bolt fit. Its front-rear coupling (pins, latches and the "
     "2.4 mm walls they are screwed to) comes from the 3D finite-element model of its own geometry "
     "(structure_fem.connector_fe, provenance 'fe: ...', wherever an FE result applies to the record); its "
-    "side rail and top twist key from the record's hand formulas ('hand formula: ...'), or any coupling from "
-    "a measurement ('measured: ...'); `fem table --json` lists each under calibration.connector_sources. This fit "
+    "side rail and top twist key from their own FE too (structure_fem.rail_key_fe) where results apply, else the "
+    "record's hand formulas ('hand formula: ...'), or any coupling from a measurement ('measured: ...'); `fem table --json` lists each under calibration.connector_sources. This fit "
     "calibrates the test platform's nut and bolt only; `--connectors calibrated` is a what-if that scales "
     "the CuBot's hand-formula rotational stiffness by the platform's fitted / estimated ratio.")
 
@@ -214,6 +222,49 @@ def fit_reading(plat: RobotProperties, reading: Reading, backlash: float, family
     return ReadingFit(reading, backlash, k, est, tips, refit, tuple(fam))
 
 
+def fe_comparison(plat: RobotProperties, fits: tuple[ReadingFit, ...], cache_dir=None) -> dict:
+    """The FE of the platform's bolted lap joint (:mod:`structure_fem.platform_bolt_fe`, looked up by
+    :func:`structure_fem.connector_sources.fe_platform_bolt_for`, never computed here) beside each
+    reading's fitted stiffness: our only check of the connector FE against a measurement.
+
+    The fit's platforms are rigid bodies, so its stiffness lumps each platform's own bending into
+    its joint; the like-for-like FE number is the whole pitch (joint + the two half plates, centre
+    to centre: ``pitch_stiffness_nm_per_rad``). Per reading: the ratio FE / fitted, whether the FE is
+    stiffer or softer and by what factor, and the 5-platform tip the model gives with the FE's
+    pitch stiffness (no rotational play: the FE's, head and nut clamp) instead of the fit."""
+    from .connector_sources import fe_platform_bolt_for
+
+    fe, where = fe_platform_bolt_for(plat, cache_dir)
+    if fe is None:
+        return {"available": False, "why": where}
+    k, kc = fe.pitch_stiffness_nm_per_rad, fe.contact_pitch_stiffness_nm_per_rad
+    rows = []
+    for r in fits:
+        lo, hi = k / r.stiffness_nm_per_rad, kc / r.stiffness_nm_per_rad
+        if lo >= 1:
+            word, factor = "stiffer", f"{lo:.3g}-{hi:.3g}"
+        elif hi <= 1:
+            word, factor = "softer", f"{1 / hi:.3g}-{1 / lo:.3g}"
+        else:
+            word, factor = "bracketing", f"{lo:.3g}-{hi:.3g}"
+        tip = lambda kk, r=r: round(_tip_or_inf(plat, MEASURED_PLATFORMS, kk, fe.backlash_rad, r.reading) * 1e3, 3)  # noqa: E731
+        rows.append({"reading": r.reading.name, "fitted_nm_per_rad": round(r.stiffness_nm_per_rad, 4),
+                     "fitted_backlash_rad": r.backlash_rad, "fe_over_fitted": round(lo, 4),
+                     "fe_contact_over_fitted": round(hi, 4), "fe_is": word, "factor": factor,
+                     "fe_tip5_mm": tip(k), "fe_contact_tip5_mm": tip(kc), "measured_tip5_mm": MEASURED_TIP_M * 1e3})
+    return {"available": True, "where": where, "provenance": fe.provenance,
+            "joint_stiffness_nm_per_rad": round(fe.rotational_stiffness_nm_per_rad, 4),
+            "pitch_stiffness_nm_per_rad": round(k, 4),
+            "plate_pitch_stiffness_nm_per_rad": round(fe.plate_pitch_stiffness_nm_per_rad, 4),
+            "contact_joint_stiffness_nm_per_rad": round(fe.contact_rotational_stiffness_nm_per_rad, 4),
+            "contact_pitch_stiffness_nm_per_rad": round(kc, 4),
+            "fe_backlash_rad": fe.backlash_rad,
+            "compared": ("pitch (joint + the two half plates, centre to centre) against the rigid-body fit, "
+                         "which lumps the plates' bending into the joint; the FE as a bracket: abutting faces free "
+                         "(lower bound) and their lower edge bearing (contact-closed)"),
+            "readings": rows}
+
+
 @dataclass(frozen=True)
 class Calibration:
     """Fitted bolt coupling and what it predicts, for the primary (``held``) reading, and
@@ -228,6 +279,8 @@ class Calibration:
     tips_m: dict[int, float]
     family: tuple[tuple[float, float, float, float, float], ...]
     readings: tuple[ReadingFit, ...] = ()
+    #: The FE of the bolt beside the fits (:func:`fe_comparison`); empty when not computed.
+    fe: dict = field(default_factory=dict)
 
     @property
     def ratio(self) -> float:
@@ -262,13 +315,39 @@ class Calibration:
                        for b, k, t3, t4, t5 in self.family],
             "readings": [r.to_dict() for r in self.readings],
             "readings_stiffness_ratio": round(spread, 4),
+            "fe": self.fe,
+            "fe_statement": fe_statement(self.fe),
         }
 
 
+def fe_statement(fe: dict) -> str:
+    """One plain paragraph: the FE bolt against the fits (or why there is no FE)."""
+    if not fe:
+        return "The FE of the platform bolt was not looked up."
+    if not fe.get("available"):
+        return f"No FE of the platform bolt applies to this record: {fe.get('why', '?')}"
+    def verdict(r):
+        if r["fe_is"] == "bracketing":
+            return f"the FE brackets it (FE / fitted {r['factor']})"
+        return f"the FE is {r['fe_is']} by a factor {r['factor']}"
+
+    parts = [f"{r['reading']} reading: fitted {r['fitted_nm_per_rad']:.4g} N m/rad, {verdict(r)}; with the FE the "
+             f"model gives {r['fe_tip5_mm']:.3g} / {r['fe_contact_tip5_mm']:.3g} mm for five platforms against the "
+             f"measured {r['measured_tip5_mm']:g}" for r in fe["readings"]]
+    return (f"FE of the platform's bolted lap joint (3D, from the CAD), as the whole pitch centre to centre (joint + "
+            f"the two half plates, the number comparable with the rigid-body fit): "
+            f"{fe['pitch_stiffness_nm_per_rad']:.4g} N m/rad with the abutting end faces free (a lower bound), "
+            f"{fe['contact_pitch_stiffness_nm_per_rad']:.4g} with their lower edge bearing (the joint alone "
+            f"{fe['joint_stiffness_nm_per_rad']:.4g} / {fe['contact_joint_stiffness_nm_per_rad']:.4g}; a continuous "
+            f"plate {fe['plate_pitch_stiffness_nm_per_rad']:.4g}). " + "; ".join(parts)
+            + ". This is the only check of the connector FE against a measurement; no input was tuned to it.")
+
+
 def calibrate(props: RobotPropertiesFile | None = None, backlash: float | None = None,
-              family_points: int = 4) -> Calibration:
+              family_points: int = 4, cache_dir=None) -> Calibration:
     """Fit the bolt stiffness for ``backlash`` (default 0: stiffness-only) under every reading,
-    with their families; the primary (``held``) reading fills the top-level fields."""
+    with their families; the primary (``held``) reading fills the top-level fields. ``fe``: the
+    bolt's FE beside the fits (:func:`fe_comparison`; ``cache_dir`` for its lookup)."""
     plat = platform_from(props)
     bolt = ConnectorSet.from_robot(plat).front_rear
     b = 0.0 if backlash is None else backlash
@@ -277,7 +356,7 @@ def calibrate(props: RobotPropertiesFile | None = None, backlash: float | None =
     fits = tuple(fit_reading(plat, r, b, family_points) for r in READINGS)
     main = fits[0]
     return Calibration(plat.source, b, main.stiffness_nm_per_rad, bolt.rotational_nm_per_rad, bolt.backlash_rad,
-                       main.tips_m, main.family, fits)
+                       main.tips_m, main.family, fits, fe_comparison(plat, fits, cache_dir))
 
 
 def calibrated_connectors(conn: ConnectorSet, cal: Calibration) -> ConnectorSet:

@@ -17,6 +17,10 @@ play per feature from the CAD's clearances. This module puts the finite-element 
   twist key (:mod:`structure_fem.rail_key_fe`; ``python -m structure_fem.connector_sources``
   computes missing ones and packages all three); :func:`planar_side_rail_for` and
   :func:`planar_top_twist_for` use them where they exist, else the hand formulas (with a note).
+* :func:`fe_platform_bolt_for` does the same for the test platform's bolt (:mod:`structure_fem.platform_bolt_fe`):
+  it rebuilds the parametric :class:`cubot_cad.platform.TestPlatform` whose hand formula gives the
+  record's ``bolt`` values and looks its FE up by hash; :func:`resolve` then puts the FE's stiffness
+  and the play of the CAD's ISO 273 clearance hole (:func:`with_fe_bolt`) in the record's place.
 * :func:`resolve` returns the robot record the model then uses: the FE values (axial, pitch
   and shear stiffness) with ``provenance = "fe: <mesh, element, solver, cache key>"``, the play
   unchanged (the FE is of the bonded, play-free load path; the play is the CAD's), and a note
@@ -198,6 +202,74 @@ def fe_front_rear_for(robot: RobotProperties, cache_dir=None, compute: bool = Fa
     return cfe.front_rear_fe(cub, mat, settings, cache_dir=cache_dir), "computed now (cached)"
 
 
+def platform_for_record(robot: RobotProperties):
+    """The parametric :class:`cubot_cad.platform.TestPlatform` whose hand formula reproduces the
+    record's ``bolt`` coupling exactly (its print clearance is the record's backlash times the tab
+    length), or ``(None, why not)``."""
+    kinds = {c.kind: c for c in robot.connectors}
+    if "bolt" not in kinds:
+        return None, "the record has no bolt coupling (only the test platform's is modelled by FE)"
+    rec = kinds["bolt"]
+    from cubot_cad.platform import TestPlatform
+
+    tab = TestPlatform().tab_length_mm
+    try:
+        plat = TestPlatform(clearance_mm=round(rec.backlash_rad * tab, 9))
+        hand = plat.connector_properties(robot.youngs_modulus_pa)[0]
+    except Exception as exc:  # noqa: BLE001 - a clearance outside what the CAD can build
+        return None, f"the CAD cannot rebuild the record's bolt coupling ({exc})"
+    if not all(_same(getattr(hand, f), getattr(rec, f)) for f in
+               ("rotational_stiffness_nm_per_rad", "axial_stiffness_n_per_m", "backlash_rad", "height_m")):
+        return None, ("the record's bolt values are not the parametric TestPlatform's hand formula at its "
+                      "clearance and modulus (edited or another geometry): no FE result applies")
+    return plat, ""
+
+
+def fe_platform_bolt_for(robot: RobotProperties, cache_dir=None, compute: bool = False, packaged: bool = True):
+    """``(PlatformBoltFE or None, where it came from or why not)`` for the record's bolt (the test
+    platform's lap joint, :mod:`structure_fem.platform_bolt_fe`): the parametric platform that
+    reproduces the record (:func:`platform_for_record`), the FE material of the record's modulus,
+    the default mesh; looked up by the hash of geometry + material + mesh."""
+    from . import connector_fe as cfe
+    from . import platform_bolt_fe as pb
+
+    plat, why = platform_for_record(robot)
+    if plat is None:
+        return None, why
+    try:
+        mat = cfe.Material.from_cubot_cad(robot.material.lower())
+    except Exception as exc:  # noqa: BLE001
+        return None, f"material {robot.material!r} has no FE material ({exc})"
+    if not _same(mat.E_pa, robot.youngs_modulus_pa):
+        return None, (f"the record's modulus {robot.youngs_modulus_pa:.4g} Pa is not the FE material's "
+                      f"{mat.E_pa:.4g} Pa")
+    mesh = pb.PlatformMesh()
+    key = pb.input_hash(pb.PlatformBoltGeometry.from_platform(plat), mat, mesh)
+    fe, where = lookup_fe(key, cache_dir, pb.PlatformBoltFE, packaged)
+    if fe is not None:
+        return fe, where
+    if not compute:
+        return None, (f"no FE result for this platform bolt (key {key[:12]}) in the cache or the package: "
+                      "`python -m structure_fem.connector_sources` computes it (under a minute cold)")
+    return pb.platform_bolt_fe(plat, mat, mesh, cache_dir=cache_dir), "computed now (cached)"
+
+
+def with_fe_bolt(rec: ConnectorProperties, fe) -> ConnectorProperties:
+    """The record's bolt with the FE's stiffness (joint alone: pitch, axial, vertical shear) and the
+    play from the CAD's clearance hole (``fe.play``; no rotational dead band: head and nut clamp)."""
+    from cubot_cad.properties import FeaturePlay
+
+    play = tuple(FeaturePlay(**p) for p in fe.play)
+    return replace(rec, rotational_stiffness_nm_per_rad=fe.rotational_stiffness_nm_per_rad,
+                   axial_stiffness_n_per_m=fe.axial_stiffness_n_per_m,
+                   shear_stiffness_n_per_m=fe.shear_stiffness_n_per_m
+                   if math.isfinite(fe.shear_stiffness_n_per_m) else None,
+                   backlash_rad=fe.backlash_rad, play=play,
+                   provenance=(f"{fe_provenance(fe)}; play: "
+                               + ", ".join(f"{p.feature} {p.play_m * 1e3:.3g} mm ({p.axis}, {p.sense}; {p.cad_feature})"
+                                           for p in play) + f", rotational {fe.backlash_rad:g} rad (head and nut clamp)"))
+
+
 def fe_provenance(fe) -> str:
     return f"{fe.provenance}; solver scipy SuperLU (splu, COLAMD); cache key {fe.input_hash[:16]}"
 
@@ -251,6 +323,13 @@ def resolve(robot: RobotProperties, source: str = "fe", cache_dir=None,
                                       f"(planar_side_rail_for; {why})")
         elif any(c.kind == "side_rail" for c in robot.connectors):
             notes["side_rail"] = f"record (roll about the rail's axis): {why}"
+        if any(c.kind == "bolt" for c in robot.connectors):
+            bolt, why_bolt = fe_platform_bolt_for(record, cache_dir)
+            if bolt is not None:
+                robot = _swap(robot, with_fe_bolt(robot.connector("bolt"), bolt))
+                notes["bolt"] = f"fe (result found in the {why_bolt}): lap joint + bolt, play from the ISO 273 hole"
+            else:
+                notes["bolt"] = f"record (hand formula): {why_bolt}"
     if measured is not None:
         for c in load_measured(measured, robot):
             robot = _swap(robot, c)
@@ -490,9 +569,10 @@ def fit_moment_rotation(points, where: str) -> tuple[float, float, int]:
 
 #: The FE results packaged per robot record (:func:`write_packaged_fe`).
 PACKAGED_FINDERS = {"cubot": ("fe_front_rear_for", "fe_side_rail_for", "fe_top_twist_for"),
-                    "cube-robot": ("fe_front_rear_for",)}
+                    "cube-robot": ("fe_front_rear_for",), "platform": ("fe_platform_bolt_for",)}
 #: Each finder's cold time when last computed (s, this machine): only to start the longest first.
-_EXPECTED_COLD_S = {"fe_front_rear_for": 120.0, "fe_top_twist_for": 66.0, "fe_side_rail_for": 41.0}
+_EXPECTED_COLD_S = {"fe_front_rear_for": 120.0, "fe_top_twist_for": 66.0, "fe_side_rail_for": 41.0,
+                    "fe_platform_bolt_for": 48.0}
 
 
 def _packaged_task(name: str, finder: str, cache_dir, packaged: bool):
@@ -564,7 +644,7 @@ def compute_packaged_fe(cache_dir=None, workers: int = 2, packaged: bool = True,
 def write_packaged_fe(cache_dir=None, workers: int = 2) -> Path:
     """Write ``structure_fem/data/connector_fe.json``: exactly the FE results that apply to the
     packaged records (:data:`PACKAGED_FINDERS`: the CuBot's front-rear, side rail and twist key,
-    the Cube Robot's front-rear), from the cache, computing any that is missing
+    the Cube Robot's front-rear, the test platform's bolt), from the cache, computing any that is missing
     (:func:`compute_packaged_fe`, ``workers`` processes). Entries of geometries no packaged record
     has any more are dropped. The file is replaced atomically, only once every result exists."""
     results, _wall, _per = compute_packaged_fe(cache_dir, workers)

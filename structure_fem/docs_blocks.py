@@ -90,7 +90,21 @@ def _calibration() -> str:
             + f"The two readings' bolt stiffnesses differ by a factor {cal['readings_stiffness_ratio']:.3g}. "
             f"`--calibration-backlash` picks another point of both families; the `{cal['primary_reading']}` reading "
             "is the primary one (the top-level fields of `fem calibrate --json`, and the `--connectors calibrated` "
-            "what-if).\n\n" + cal["robot_connectors"] + "\n")
+            "what-if).\n\n" + _fe_vs_fit(cal) + cal["robot_connectors"] + "\n")
+
+
+def _fe_vs_fit(cal: dict) -> str:
+    """The bolt's FE beside the fitted values (a table per reading) and the plain statement."""
+    fe = cal.get("fe") or {}
+    if not fe.get("available"):
+        return cal.get("fe_statement", "") + "\n\n"
+    rows = ["| reading | fitted to the thesis's 5 mm (N m/rad) | FE, whole pitch: faces free / lower edge bearing "
+            "(N m/rad) | FE / fitted | FE is | five platforms with the FE (mm) |", "|---|---|---|---|---|---|"]
+    rows += [f"| {r['reading']} | {r['fitted_nm_per_rad']:.4g} | {fe['pitch_stiffness_nm_per_rad']:.4g} / "
+             f"{fe['contact_pitch_stiffness_nm_per_rad']:.4g} | {r['fe_over_fitted']:.3g} / "
+             f"{r['fe_contact_over_fitted']:.3g} | {r['fe_is']} (x{r['factor']}) | {r['fe_tip5_mm']:.3g} / "
+             f"{r['fe_contact_tip5_mm']:.3g} (measured {r['measured_tip5_mm']:g}) |" for r in fe["readings"]]
+    return "\n".join(rows) + "\n\n" + cal["fe_statement"] + "\n\n"
 
 
 def _piers() -> str:

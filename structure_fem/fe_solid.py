@@ -18,7 +18,6 @@ is within 1-3 % on coarse meshes at a fraction of P1's dof count for the same ac
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -93,11 +92,13 @@ class ElasticResult:
         return float(np.max(np.abs(self.u[self.basis.nodal_dofs[component], case])))
 
 
-def solve_linear_elastic(mesh, E_pa: float, nu: float, fixed: FacetSelector,
+def solve_linear_elastic(mesh, E_pa, nu, fixed: FacetSelector,
                          load: Load | Sequence[Load], order: int = 2) -> ElasticResult:
     """Linear elasticity on a tetrahedral mesh (metres, Pa, N): clamp ``fixed`` facets
     (all three displacement components zero), apply each :class:`Load` (one load case each;
-    pass a sequence for several cases, solved with one factorisation). ``order`` 1 or 2."""
+    pass a sequence for several cases, solved with one factorisation). ``order`` 1 or 2.
+    ``E_pa`` and ``nu``: one value, or one per element (several materials, e.g. a steel bolt in
+    printed plates; see :func:`stiffness_matrix`)."""
     _require_fe()
     from scipy.sparse.linalg import splu
     from skfem import (
@@ -111,10 +112,14 @@ def solve_linear_elastic(mesh, E_pa: float, nu: float, fixed: FacetSelector,
         asm,
     )
 
-    if not (math.isfinite(E_pa) and E_pa > 0):
+    E_arr, nu_arr = np.atleast_1d(np.asarray(E_pa, dtype=float)), np.atleast_1d(np.asarray(nu, dtype=float))
+    if not (np.all(np.isfinite(E_arr)) and np.all(E_arr > 0)):
         raise InputError(f"Young's modulus must be > 0 Pa, got {E_pa!r}")
-    if not (-1.0 < nu < 0.5):
+    if not (np.all(nu_arr > -1.0) and np.all(nu_arr < 0.5)):
         raise InputError(f"Poisson's ratio must be in (-1, 0.5), got {nu!r}")
+    for name, arr in (("Young's modulus", E_arr), ("Poisson's ratio", nu_arr)):
+        if arr.size not in (1, mesh.t.shape[1]):
+            raise InputError(f"{name}: give one value or one per element ({mesh.t.shape[1]}), got {arr.size}")
     if order not in (1, 2):
         raise InputError(f"element order must be 1 or 2, got {order!r}")
     loads = [load] if isinstance(load, Load) else list(load)
@@ -145,24 +150,26 @@ def solve_linear_elastic(mesh, E_pa: float, nu: float, fixed: FacetSelector,
     return ElasticResult(ib, u, order, int(free.size), int(mesh.t.shape[1]), time.perf_counter() - t0, load_facets)
 
 
-def stiffness_matrix(mesh, E_pa: float, nu: float, order: int = 2, chunk: int = 20000):
+def stiffness_matrix(mesh, E_pa, nu, order: int = 2, chunk: int = 20000):
     """Global stiffness matrix of isotropic linear elasticity on P1/P2 tetrahedra (CSR).
 
     Same matrix as ``asm(linear_elasticity(*lame_parameters(E, nu)), Basis(mesh,
     ElementVectorH1(ElementTetP2())))`` (global dof ``3 s + i`` for scalar dof ``s``, component
     ``i``; a test checks equality), but vectorised over elements with numpy: scikit-fem's generic
     form loop spends ~3 s per 5k P2 tetrahedra, this ~0.3 s. Exact quadrature on straight tets
-    (degree 2(order-1)).
+    (degree 2(order-1)). ``E_pa`` / ``nu``: scalars, or arrays of one value per element.
     """
     from scipy.sparse import coo_matrix
     from skfem import Basis, ElementTetP1, ElementTetP2
 
-    lam = E_pa * nu / ((1 + nu) * (1 - 2 * nu))
-    mu = E_pa / (2 * (1 + nu))
+    nel = mesh.t.shape[1]
+    E_e = np.broadcast_to(np.asarray(E_pa, dtype=float), (nel,))
+    nu_e = np.broadcast_to(np.asarray(nu, dtype=float), (nel,))
+    lam_all = E_e * nu_e / ((1 + nu_e) * (1 - 2 * nu_e))
+    mu_all = E_e / (2 * (1 + nu_e))
     el = ElementTetP2() if order == 2 else ElementTetP1()
     nloc = 10 if order == 2 else 4
     rows, cols, vals = [], [], []
-    nel = mesh.t.shape[1]
     eye = np.eye(3)
     ndof = None
     for s0 in range(0, nel, chunk):
@@ -176,6 +183,8 @@ def stiffness_matrix(mesh, E_pa: float, nu: float, order: int = 2, chunk: int = 
         # S[e, a, k, b, l] = int dphi_a/dx_k dphi_b/dx_l; K[(a,i),(b,j)] =
         # lam S[a,i,b,j] + mu (delta_ij sum_k S[a,k,b,k] + S[a,j,b,i])
         trace = np.einsum("eakbk->eab", S)
+        lam = lam_all[sel][:, None, None, None, None]
+        mu = mu_all[sel][:, None, None, None, None]
         Ke = lam * S + mu * (trace[:, :, None, :, None] * eye[None, None, :, None, :]
                              + S.transpose(0, 1, 4, 3, 2))
         Ke = Ke.reshape(ne, 3 * nloc, 3 * nloc)  # (e, a i, b j)

@@ -178,8 +178,9 @@ def test_the_packaged_fe_set_is_gathered_in_the_finders_order_from_one_or_two_pr
         results, wall, per_task = cs.compute_packaged_fe(tmp_path, workers=workers,
                                                          progress=lambda d, n, label, done=done: done.append((d, n, label)))
         assert [fe.input_hash for fe in results] == keys
-        assert [d for d, _n, _l in done] == [1, 2, 3, 4] and {n for _d, n, _l in done} == {4}
-        assert set(per_task) == {"cubot:front_rear", "cubot:side_rail", "cubot:top_twist", "cube-robot:front_rear"}
+        assert [d for d, _n, _l in done] == [1, 2, 3, 4, 5] and {n for _d, n, _l in done} == {5}
+        assert set(per_task) == {"cubot:front_rear", "cubot:side_rail", "cubot:top_twist", "cube-robot:front_rear",
+                                 "platform:platform_bolt"}
         assert wall >= 0 and not any(tmp_path.iterdir())  # nothing computed, nothing cached
 
 

@@ -221,6 +221,8 @@ def _readings_text(cal: dict) -> str:
                    + "\n".join(f"    {f['backlash_rad']:.4g} -> {f['stiffness_nm_per_rad']:.4g}: "
                                f"{f['tip3_mm']:.2f} / {f['tip4_mm']:.2f} / {f['tip5_mm']:.2f}" for f in r["family"]))
     out.append(f"the two readings' stiffnesses differ x{cal['readings_stiffness_ratio']:.3g}")
+    if cal.get("fe_statement"):
+        out.append(cal["fe_statement"])
     return "\n".join(out)
 
 
@@ -413,18 +415,19 @@ def run_design(args) -> int:
 
 
 def run_connectors(args) -> int:
-    from structure_fem.connector_sources import fe_front_rear_for
+    from structure_fem.connector_sources import fe_front_rear_for, fe_platform_bolt_for
     from structure_fem.runs import load_file
 
     props = load_file(_opts(args))
     robot = props.get(args.robot)
-    fe, where = fe_front_rear_for(robot, compute=True)
+    bolt = any(c.kind == "bolt" for c in robot.connectors)  # the test platform's lap joint
+    fe, where = (fe_platform_bolt_for if bolt else fe_front_rear_for)(robot, compute=True)
     if fe is None:
         raise InputError(f"no FE model applies to robot {robot.name!r}: {where}")
     payload = {"robot": robot.name, "kind": fe.kind, "rotational_stiffness_nm_per_rad": fe.rotational_stiffness_nm_per_rad,
                "axial_stiffness_n_per_m": fe.axial_stiffness_n_per_m, "shear_stiffness_n_per_m": fe.shear_stiffness_n_per_m,
                "provenance": fe.provenance, "input_hash": fe.input_hash, "from": where, "timings_s": fe.timings_s}
-    emit(args, payload, f"{robot.name} front_rear: {fe.rotational_stiffness_nm_per_rad:.4g} N m/rad, "
+    emit(args, payload, f"{robot.name} {fe.kind}: {fe.rotational_stiffness_nm_per_rad:.4g} N m/rad, "
                         f"{fe.axial_stiffness_n_per_m:.3g} N/m axial, {fe.shear_stiffness_n_per_m:.3g} N/m shear "
                         f"({where}; key {fe.input_hash[:16]})\n  {fe.provenance}")
     return 0
