@@ -21,7 +21,7 @@ from .errors import InputError
 class Component:
     """``count`` identical items, one per entry of ``positions_mm``.
 
-    ``kind``: ``box`` (size = x, y, z), ``cyl_y`` (size = diameter, width along y), ``cyl_z``
+    ``kind``: ``box`` (size = x, y, z), ``cyl_x`` / ``cyl_y`` (size = diameter, width along x / y), ``cyl_z``
     (size = diameter, length along z), ``sphere`` (size = diameter). Masses in grams.
 
     ``lump``: a mass spread through the robot (screws, wires), modelled as a homogeneous box for the
@@ -42,7 +42,7 @@ class Component:
     def __post_init__(self) -> None:
         if not (self.unit_mass_g > 0):
             raise InputError(f"component {self.key}: unit_mass_g must be > 0, got {self.unit_mass_g}")
-        if self.kind not in ("box", "cyl_y", "cyl_z", "sphere"):
+        if self.kind not in ("box", "cyl_x", "cyl_y", "cyl_z", "sphere"):
             raise InputError(f"component {self.key}: unknown kind {self.kind!r}")
         if not self.positions_mm:
             raise InputError(f"component {self.key}: no positions")
@@ -60,11 +60,13 @@ class Component:
         if self.kind == "box":
             a, b, c = s
             return m / 12 * np.diag([b * b + c * c, a * a + c * c, a * a + b * b])
-        if self.kind in ("cyl_y", "cyl_z"):
+        if self.kind in ("cyl_x", "cyl_y", "cyl_z"):
             r, h = s[0] / 2, s[1]
             i_perp = m * (3 * r * r + h * h) / 12
             if self.kind == "cyl_z":
                 return np.diag([i_perp, i_perp, m * r * r / 2])
+            if self.kind == "cyl_x":
+                return np.diag([m * r * r / 2, i_perp, i_perp])
             return np.diag([i_perp, m * r * r / 2, i_perp])
         r = s[0] / 2
         return np.eye(3) * (2 / 5) * m * r * r
@@ -76,7 +78,7 @@ class Component:
 
     def solids(self):
         """Stand-in solids (mm) for assemblies, renders and ground contact (none for a ``lump``)."""
-        from .shapes import Y, Z, box, cyl, sphere
+        from .shapes import X, Y, Z, box, cyl, sphere
 
         out = []
         if self.lump:
@@ -85,6 +87,9 @@ class Component:
             if self.kind == "box":
                 a, b, c = self.size_mm
                 out.append(box(x - a / 2, x + a / 2, y - b / 2, y + b / 2, z - c / 2, z + c / 2))
+            elif self.kind == "cyl_x":
+                d, w = self.size_mm[:2]
+                out.append(cyl(d / 2, w, (x - w / 2, y, z), X))
             elif self.kind == "cyl_y":
                 d, w = self.size_mm[:2]
                 out.append(cyl(d / 2, w, (x, y - w / 2, z), Y))

@@ -32,6 +32,7 @@ from . import couplings
 from .components import Component
 from .connectors import FrontRearSpec, latch_set_parts, pin_set_parts
 from .cubot import check_dims
+from .latch_drive import SHAFT_INTO_COUPLER_MM, LatchDriveSpec
 from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, at_least, at_most, check_clearance, need
 from .robot import Placed, Robot
 
@@ -42,6 +43,8 @@ WHEEL_GAP_MM = 1.0
 WELL_MARGIN_MM = 0.8
 #: Thesis pins: 1.7 mm longer than the latch stack is deep (Ch. 6.3.1.3).
 THESIS_PIN_OVERRUN_MM = 1.7
+#: The 2S 1000 mAh LiPo's stand-in (mm; x, y, z as it lies in the wheel block).
+BATTERY_MM = (35.0, 70.0, 18.0)
 
 
 def swept_half_extents_mm(radius_mm: float, width_mm: float, steer_deg: float) -> tuple[float, float]:
@@ -271,9 +274,14 @@ class ConnectorCuboid(Part):
     fr: FrontRearSpec = FrontRearSpec()
     below: TierJoint = TierJoint()
     above: TierJoint = TierJoint(tab_mm=0.0)
+    #: The latch servos' frames (:mod:`cubot_cad.latch_drive`), standing on the floor: ``latch`` and,
+    #: per latch face, ``(yaw_deg, places)`` with the places in the rear face's frame
+    #: (:meth:`CubeRobot.latch_places`); none by default.
+    latch: LatchDriveSpec | None = None
+    latch_places: tuple = ()
     name: ClassVar[str] = "cube_connector_cuboid"
     description: ClassVar[str] = ("Cube Robot tier 2: connector cuboid, pin holes front/right, latch holes rear/left, "
-                                  "floor screw holes and tab slots, top corner insert bosses and lip")
+                                  "floor screw holes and tab slots, top corner insert bosses and lip, latch-servo frames")
 
     def validate(self) -> None:
         self.wall_check("wall_mm", self.wall_mm)
@@ -288,10 +296,27 @@ class ConnectorCuboid(Part):
                  f"{self.clearance_mm:g}")
         for j in (self.below, self.above):
             j.check_walls(self.wall_mm, self.floor_mm)
+        if self.latch is not None:
+            for _yaw, places in self.latch_places:
+                self.latch.check_frames(self.latch_stack_end_mm, places, self.z0_mm + self.floor_mm)
 
     @property
     def top_mm(self) -> float:
         return self.z0_mm + self.height_mm
+
+    @property
+    def latch_stack_end_mm(self) -> float:
+        """x where a rear face's latch stacks end inside the cuboid (the rear face's frame)."""
+        return -self.size_mm / 2 + self.fr.latch_stack_mm
+
+    def latch_frames(self) -> list:
+        """The latch servos' frames, turned onto their faces."""
+        from .shapes import Z, rotated
+
+        if self.latch is None:
+            return []
+        return [rotated(f, Z, yaw) if yaw else f for yaw, places in self.latch_places
+                for f in self.latch.frames(self.latch_stack_end_mm, places, self.z0_mm + self.floor_mm)]
 
     def build(self):
         from .shapes import box, cut_all, fuse_all, location
@@ -301,7 +326,7 @@ class ConnectorCuboid(Part):
         shell = box(-S, S, -S, S, z0, z1).cut(box(-S + w, S - w, -S + w, S - w, z0 + f, z1 + 1))
         li = S - self.lip_wall_mm
         lip = box(-S, S, -S, S, z1 - 0.01, z1 + self.lip_mm).cut(box(-li, li, -li, li, z1 - 1, z1 + self.lip_mm + 1))
-        shell = fuse_all([shell, lip] + self.above.bosses(S, w, z1))
+        shell = fuse_all([shell, lip] + self.above.bosses(S, w, z1) + self.latch_frames())
         zb = (z0 + z1) / 2
         cut = self.above.insert_holes(S, z1) + self.below.clearance_holes(S, z0, f) + self.below.slots(S, w, z0, f)
         # pins front (0 deg) and right (-90 = 270 deg), latches rear (180 deg) and left (90 deg)
@@ -379,6 +404,8 @@ class CubeRobot(Robot):
     pin_diameter_mm: float = 5.0
     groove_diameter_mm: float = 3.4
     clearance_mm: float = DEFAULT_CLEARANCE_MM
+    #: The latch servos (:mod:`cubot_cad.latch_drive`; default: the servo table's SG90, case up).
+    latch: LatchDriveSpec | None = None
 
     name: ClassVar[str] = "cube-robot"
     title: ClassVar[str] = "Cube Robot"
@@ -448,7 +475,76 @@ class CubeRobot(Robot):
     def cuboid(self) -> ConnectorCuboid:
         return ConnectorCuboid(size_mm=self.size_mm, height_mm=self.cuboid_mm, z0_mm=self.wheel_block_mm,
                                wall_mm=self.wall_mm, block_offset_mm=self.block_offset_mm, fr=self.fr_spec,
-                               below=self.joint, above=self.top_joint, clearance_mm=self.clearance_mm)
+                               below=self.joint, above=self.top_joint, clearance_mm=self.clearance_mm,
+                               latch=self.latch_spec, latch_places=self.latch_places)
+
+    @cached_property
+    def latch_spec(self) -> LatchDriveSpec:
+        """The latch servos: ``latch``, or the servo table's SG90 with its case up from the axle and the
+        smallest stock gear pair (:data:`~cubot_cad.gears.STOCK_PAIRS`) with which a geared corner
+        servo has room (:meth:`latch_places`)."""
+        if self.latch is not None:
+            need(abs(self.latch.clearance_mm - self.clearance_mm) < 1e-12,
+                 f"latch.clearance_mm {self.latch.clearance_mm:g} differs from clearance_mm {self.clearance_mm:g}")
+            return self.latch
+        from .gears import STOCK_PAIRS
+
+        specs = [LatchDriveSpec(clearance_mm=self.clearance_mm, blade_gear=b, servo_gear=s) for b, s in STOCK_PAIRS]
+        return next((sp for sp in specs if self._latch_layout(sp)[1]), specs[len(specs) // 2])
+
+    @cached_property
+    def latch_places(self) -> tuple:
+        """Per latch face ``(yaw_deg, places)``: the rear face (0) and the left face (the rear face turned
+        -90 deg about the vertical axis), each block's place in the rear face's frame (``(y, z)``, or
+        ``(y, z, servo_y)`` when geared; :mod:`cubot_cad.latch_drive`).
+
+        A left-face servo whose case, coaxial with its blade, would meet a rear-face servo or frame (the
+        two blocks nearest the rear-left corner) is geared instead: its axis moves one gear centre
+        distance along the face towards the face's middle. If it still meets anything, the layout is
+        refused."""
+        from .gears import STOCK_PAIRS, gear
+
+        spec = self.latch_spec
+        places, ok = self._latch_layout(spec)
+        tried = (f"{spec.gear_offset_mm:g} mm" if self.latch is not None else
+                 "/".join(f"{gear(b).pitch_diameter_mm:g}" for b, _s in STOCK_PAIRS) + " mm (the stock pairs)")
+        need(ok, f"block_offset_mm {self.block_offset_mm:g}: the {spec.servo} latch servos of the rear and left faces "
+                 f"meet in the rear-left corner, coaxial or geared {tried} along the face")
+        return places
+
+    def _latch_layout(self, spec: LatchDriveSpec) -> tuple[tuple, bool]:
+        """(:meth:`latch_places` with ``spec``, whether no servo case or frame meets another)."""
+        from .shapes import yaw_box
+
+        x_end, z = self.cuboid_stack_end_mm, self.block_z_mm
+        floor = self.wheel_block_mm + ConnectorCuboid.floor_mm
+        c = self.clearance_mm
+
+        def boxes(place, yaw):
+            y, zz, geared = spec.place(place)
+            return [yaw_box(spec.case_mm(x_end, y, zz, geared), yaw),
+                    yaw_box(spec.frame_box_mm(x_end, y, zz, floor, geared), yaw)]
+
+        def meet(a, b):
+            return all(a[2 * i] < b[2 * i + 1] + c and b[2 * i] < a[2 * i + 1] + c for i in range(3))
+
+        o = self.block_offset_mm
+        rear = tuple((y, z) for y in (o, -o))
+        taken = [b for p in rear for b in boxes(p, 0.0)]
+        left, ok = [], True
+        for y in (o, -o):
+            place = (y, z)
+            if any(meet(a, b) for a in boxes(place, -90.0) for b in taken):
+                place = (y, z, y - math.copysign(spec.gear_offset_mm, y))
+                ok = ok and not any(meet(a, b) for a in boxes(place, -90.0) for b in taken)
+            taken += boxes(place, -90.0)
+            left.append(place)
+        return ((0.0, rear), (-90.0, tuple(left))), ok
+
+    @property
+    def cuboid_stack_end_mm(self) -> float:
+        """x where a rear face's latch stacks end inside the cuboid (the rear face's frame)."""
+        return -self.size_mm / 2 + self.fr_spec.latch_stack_mm
 
     @cached_property
     def sensor_tier(self) -> SensorCylinder:
@@ -493,12 +589,16 @@ class CubeRobot(Robot):
                         out.append(Placed(part, face * location(off), role + ("_side" if rot in (-90, 90) else "")))
         return out
 
+    @property
+    def geared_latches(self) -> int:
+        return sum(self.latch_spec.place(p)[2] for _yaw, places in self.latch_places for p in places)
+
     def drive_parts(self) -> list[tuple[str, str, str, int]]:
         fr = self.fr_spec
-        length = fr.rear_plate_mm + fr.separation_mm + 6.0  # through the bearing and the blade, into the coupler
-        return [("latch_shaft", "steel D-shaft (0.5 mm flat) with a coupler onto the latch servo's output",
-                 f"diameter {fr.drive_shaft_mm:g} x {length:.0f} mm, {fr.drive_flat_mm:g} mm across the flat",
-                 4)]
+        # through the bearing and the blade, into the coupler
+        length = fr.rear_plate_mm + fr.separation_mm + SHAFT_INTO_COUPLER_MM
+        blocks = sum(len(places) for _yaw, places in self.latch_places)
+        return self.latch_spec.drive_parts(fr.drive_shaft_mm, fr.drive_flat_mm, length, blocks, self.geared_latches)
 
     def fasteners(self) -> list:
         from .fasteners import bolted
@@ -513,7 +613,9 @@ class CubeRobot(Robot):
                 + bolted(n, self.top_joint.screw_size, self.sensor_tier.floor_mm,
                          len(self.top_joint.screw_points(self.size_mm / 2)),
                          "sensor tier: through its base plate's corners into the cuboid's top corner bosses",
-                         insert=True))
+                         insert=True)
+                + self.latch_spec.tab_screws(n, sum(len(places) for _yaw, places in self.latch_places))
+                + (self.latch_spec.gear_screws(n, self.geared_latches) if self.geared_latches else []))
 
     def pin_heights_mm(self) -> list[float]:
         return [self.block_z_mm + z for _ in (0, 1) for _y, z in self.fr_spec.pin_positions()]
@@ -522,7 +624,6 @@ class CubeRobot(Robot):
         axle = self.wheel_radius_mm - self.wheel_exposed_mm
         x, y = self.wheel_x_mm, self.track_half_mm
         zt = self.wheel_block_mm + self.cuboid_mm
-        S, stack = self.size_mm / 2, self.fr_spec.latch_stack_mm
         _hx, hy = swept_half_extents_mm(self.wheel_radius_mm, self.wheel_width_mm, self.steer_deg)
         ys = y - hy - WHEEL_GAP_MM - 5.0  # the 10 mm sensor's outer edge WHEEL_GAP_MM from the turned wheel
         return [
@@ -533,19 +634,10 @@ class CubeRobot(Robot):
                       (20.0, 30.0, 20.0), "box", "motor", (0.3, 0.3, 0.3)),
             Component("steering_servo", "micro servo for the Ackermann linkage", 9.0, ((x, 0.0, 14.0),),
                       (23.0, 12.0, 22.0), "box", "motor", (0.3, 0.3, 0.3)),
-            Component("battery", "2S LiPo 7.4 V 1000 mAh", 55.0, ((0.0, 0.0, self.wheel_block_mm + 12.0),),
-                      (70.0, 35.0, 18.0), "box", "power", (0.8, 0.5, 0.1)),
-            # a micro servo (18 x 12 x 16 mm case, output 4 mm from one end) behind each latch block, coaxial
-            # with its drive shaft, 0.3 mm behind the stack: the rear ones reach out from the axis, the left
-            # ones toward the middle, so the two in each rear-left corner miss each other and the battery
-            Component("latch_servo", "micro servo per latch block (rear)", 4.3,
-                      tuple((-S + stack + 0.3 + 6.0, sy * (self.block_offset_mm + 5.0), self.block_z_mm)
-                            for sy in (-1, 1)),
-                      (12.0, 18.0, 16.0), "box", "motor", (0.3, 0.3, 0.3)),
-            Component("latch_servo_left", "micro servo per latch block (left)", 4.3,
-                      tuple((sx * (self.block_offset_mm - 4.0), S - stack - 0.3 - 6.0, self.block_z_mm)
-                            for sx in (-1, 1)),
-                      (18.0, 12.0, 16.0), "box", "motor", (0.3, 0.3, 0.3)),
+            # in the wheel block, across it, between the drive motors and the steering servo (the cuboid
+            # holds the four latch servos)
+            Component("battery", "2S LiPo 7.4 V 1000 mAh", 55.0, (self.battery_centre_mm,),
+                      BATTERY_MM, "box", "power", (0.8, 0.5, 0.1)),
             Component("main_board", "controller + RFID + accelerometer", 25.0, ((0.0, 0.0, zt + 10.0),),
                       (70.0, 70.0, 10.0)),
             # a board square inside the sensor cylinder (corners 1.9 mm off its wall), over the main board
@@ -557,7 +649,22 @@ class CubeRobot(Robot):
                       (6.0, 10.0, 4.0)),
             Component("fasteners", "M3 screws and nuts", 25.0, ((0.0, 0.0, 60.0),), (100.0, 100.0, 100.0),
                       "box", "hardware", (0.6, 0.6, 0.6), lump=True),
-        ]
+        ] + self.latch_components()
+
+    def latch_components(self) -> list[Component]:
+        """The latch servos of the rear and left faces (stand-ins on their frames) and the geared
+        blocks' gear pairs."""
+        spec, x_end = self.latch_spec, self.cuboid_stack_end_mm
+        (_r, rear), (yaw, left) = self.latch_places
+        return ([spec.component(x_end, rear, "latch_servo"), spec.component(x_end, left, "latch_servo_left", yaw)]
+                + spec.gear_components(x_end, rear, "latch_gear_rear") + spec.gear_components(x_end, left, "latch_gear", yaw))
+
+    @property
+    def battery_centre_mm(self) -> tuple[float, float, float]:
+        """The battery (:data:`BATTERY_MM`, long side across) on the wheel block's floor, 1 mm in front
+        of the drive motors."""
+        return (-self.wheel_x_mm + 10.0 + 1.0 + BATTERY_MM[0] / 2, 0.0,
+                self.wheel_block.floor_mm + 0.01 + BATTERY_MM[2] / 2)
 
     def connector_properties(self, youngs_modulus_pa: float, gaps_mm: dict | None = None) -> tuple:
         fr = self.fr_spec

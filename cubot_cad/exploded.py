@@ -100,12 +100,16 @@ PLANS: dict[str, list[Step]] = {
              offset_mm=(130, 0, 0)),
     ],
     "cube-robot": [
-        Step("1", "wheel block, wheels and motors", names("cube_wheel_block"), ("wheel", "drive_motor")),
+        Step("1", "wheel block, wheels, motors and battery", names("cube_wheel_block"),
+             ("wheel", "drive_motor", "battery")),
         Step("2", "connector cuboid", names("cube_connector_cuboid"), offset_mm=(0, 0, 70)),
         Step("2 blocks", "connector blocks: pins front/right, latches rear/left", roles("pin", "pinset", "latchset",
                                                                                       "blade"),
              offset_mm=(0, 0, 70), axis="radial", spread=4.5, side_mm=25, letters=True),
-        Step("3", "sensor cylinder", names("cube_sensor_cylinder"), offset_mm=(0, 0, 150)),
+        Step("2.1", "latch servos onto their frames (tabs screwed on); couplers, or the corner block's gear pair",
+             None, ("latch_servo", "latch_servo_left", "latch_gear_blade", "latch_gear_servo"),
+             offset_mm=(0, 0, 115)),
+        Step("3", "sensor cylinder", names("cube_sensor_cylinder"), offset_mm=(0, 0, 200)),
     ],
 }
 

@@ -72,6 +72,25 @@ def rotated(shape: cq.Shape, axis: Sequence[float], deg: float, centre: Sequence
     return shape.rotate(c, c + cq.Vector(*axis), deg)
 
 
+def yaw_point(p: Sequence[float], deg: float) -> tuple[float, float, float]:
+    """``p`` turned ``deg`` (a multiple of 90, exact) about the z axis through the origin."""
+    k = round(deg / 90) % 4
+    if abs(deg - 90 * round(deg / 90)) > 1e-9:
+        raise ValueError(f"yaw {deg!r} deg is not a multiple of 90")
+    x, y, z = p
+    for _ in range(k):
+        x, y = -y, x
+    return (x, y, z)
+
+
+def yaw_box(b: Sequence[float], deg: float) -> tuple[float, float, float, float, float, float]:
+    """The axis-aligned box ``(x0, x1, y0, y1, z0, z1)`` turned ``deg`` (a multiple of 90) about z."""
+    x0, x1, y0, y1, z0, z1 = b
+    a = yaw_point((x0, y0, z0), deg)
+    c = yaw_point((x1, y1, z1), deg)
+    return (min(a[0], c[0]), max(a[0], c[0]), min(a[1], c[1]), max(a[1], c[1]), z0, z1)
+
+
 def location(xyz: Sequence[float] = (0, 0, 0), rot_z_deg: float = 0.0, rot_x_deg: float = 0.0) -> cq.Location:
     """A placement: rotate about x, then about z, then translate by ``xyz``."""
     loc = cq.Location(cq.Vector(*xyz))

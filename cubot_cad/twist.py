@@ -392,10 +392,13 @@ class ServoStandIn(Component):
     spline points down from the case face, the case extends along -x from the axle; ``size_mm`` =
     case length, width, height); ``"-x"`` points its output at -x (a latch servo: the case extends +x
     from the face and upward from the axle, the tabs in a y-z plane; ``size_mm`` = case height, width,
-    length); ``"-x down"`` the same with the case downward from the axle."""
+    length); ``"-x down"`` the same with the case downward from the axle. ``yaw_deg`` (a multiple of
+    90): the whole mounted servo turned about the robot's vertical axis through the origin (a latch
+    servo on a side face); ``positions_mm`` and ``size_mm`` are then the turned case's."""
 
     servo_model: str = "SG90"
     output: str = "-z"
+    yaw_deg: float = 0.0
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -404,13 +407,20 @@ class ServoStandIn(Component):
 
     def axles_mm(self) -> list[tuple[float, float, float]]:
         """Where each servo's output axis meets its case face (robot frame)."""
+        from .shapes import yaw_point
+
+        return [yaw_point(a, self.yaw_deg) for a in self._axles_unturned()]
+
+    def _axles_unturned(self) -> list[tuple[float, float, float]]:
         from .servos import servo
+        from .shapes import yaw_point
 
         sv = servo(self.servo_model)
+        at = [yaw_point(p, -self.yaw_deg) for p in self.positions_mm]
         if self.output == "-z":
-            return [(x + sv.axle_to_centre_mm, y, z - sv.case_height_mm / 2) for x, y, z in self.positions_mm]
+            return [(x + sv.axle_to_centre_mm, y, z - sv.case_height_mm / 2) for x, y, z in at]
         dz = -sv.axle_to_centre_mm if self.output == "-x" else sv.axle_to_centre_mm
-        return [(x - sv.case_height_mm / 2, y, z + dz) for x, y, z in self.positions_mm]
+        return [(x - sv.case_height_mm / 2, y, z + dz) for x, y, z in at]
 
     def solids(self):
         from .servos import servo
@@ -418,7 +428,7 @@ class ServoStandIn(Component):
 
         sv = servo(self.servo_model)
         out = []
-        for ax, ay, az in self.axles_mm():
+        for ax, ay, az in self._axles_unturned():
             near = ax + sv.axle_from_end_mm
             centre = ax - sv.axle_to_centre_mm
             W = sv.case_width_mm / 2
@@ -431,7 +441,7 @@ class ServoStandIn(Component):
                 solid = rotated(solid, Y, 90.0, (ax, ay, az))
             if self.output == "-x down":  # and half a turn about its output axis (the case symmetric in y)
                 solid = rotated(solid, X, 180.0, (ax, ay, az))
-            out.append(solid)
+            out.append(rotated(solid, Z, self.yaw_deg) if self.yaw_deg else solid)
         return out
 
 
