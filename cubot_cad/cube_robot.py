@@ -483,14 +483,54 @@ class CubeRobot(Robot):
         """The latch servos: ``latch``, or the servo table's SG90 with its case up from the axle and the
         smallest stock gear pair (:data:`~cubot_cad.gears.STOCK_PAIRS`) with which a geared corner
         servo has room (:meth:`latch_places`)."""
+        from dataclasses import replace
+
+        proud = self.latch_screw_proud_mm
         if self.latch is not None:
             need(abs(self.latch.clearance_mm - self.clearance_mm) < 1e-12,
                  f"latch.clearance_mm {self.latch.clearance_mm:g} differs from clearance_mm {self.clearance_mm:g}")
-            return self.latch
+            return replace(self.latch, proud_mm=proud)
         from .gears import STOCK_PAIRS
 
-        specs = [LatchDriveSpec(clearance_mm=self.clearance_mm, blade_gear=b, servo_gear=s) for b, s in STOCK_PAIRS]
+        specs = [LatchDriveSpec(clearance_mm=self.clearance_mm, blade_gear=b, servo_gear=s, proud_mm=proud)
+                 for b, s in STOCK_PAIRS]
         return next((sp for sp in specs if self._latch_layout(sp)[1]), specs[len(specs) // 2])
+
+    def _latch_block_screws(self) -> list:
+        from .fasteners import bolted
+
+        fr = self.fr_spec
+        return bolted(self.name, fr.screw_size, fr.latch_stack_mm, 4 * 4, "latch blocks (rear, left)", nut=True,
+                      kind="ISO 10642")
+
+    @property
+    def latch_screw_proud_mm(self) -> float:
+        """How far the latch blocks' countersunk screws (their length includes the head, flush with the
+        docking face) reach past the stack's last plate, through their nuts."""
+        return self._latch_block_screws()[0].length_mm - self.fr_spec.latch_stack_mm
+
+    def hardware(self, placed: list | None = None) -> list:
+        """Stand-ins of the latch blocks' nuts and screw ends inside the cuboid (robot frame): what the
+        latch servos' gears and couplers must clear."""
+        from .fasteners import thread
+        from .shapes import X, Z, cyl, prism, regular_polygon, rotated
+        from .twist import Hardware
+
+        fr = self.fr_spec
+        t = thread(fr.screw_size)
+        x0, zb, proud = self.cuboid_stack_end_mm, self.block_z_mm, self.latch_screw_proud_mm
+        out = []
+        for yaw, places in self.latch_places:
+            for y, *_ in places:
+                for dy, dz in fr.screw_positions():
+                    yy, zz = y + dy, zb + dz
+                    hexagon = regular_polygon(6, t.nut_flats_mm)
+                    nut = prism(hexagon, "YZ", 0.0, t.nut_height_mm).translate((x0, yy, zz))
+                    end = cyl(t.nominal_mm / 2, proud, (x0, yy, zz), X)
+                    k = len(out) // 2 + 1
+                    for label, shape in ((f"latch_block_nut_{k}", nut), (f"latch_block_screw_end_{k}", end)):
+                        out.append(Hardware(label, "fastener", rotated(shape, Z, yaw) if yaw else shape, False))
+        return out
 
     @cached_property
     def latch_places(self) -> tuple:
@@ -606,8 +646,7 @@ class CubeRobot(Robot):
         fr, n = self.fr_spec, self.name
         return (bolted(n, fr.screw_size, fr.pin_stack_mm, 4 * 4, "grooved-pin blocks (front, right)", nut=True,
                        kind="ISO 10642")
-                + bolted(n, fr.screw_size, fr.latch_stack_mm, 4 * 4, "latch blocks (rear, left)", nut=True,
-                         kind="ISO 10642")
+                + self._latch_block_screws()
                 + bolted(n, self.joint.screw_size, self.cuboid.floor_mm, len(self.joint.screw_points(self.size_mm / 2)),
                          "connector cuboid: down through its floor into the wheel block's corner bosses", insert=True)
                 + bolted(n, self.top_joint.screw_size, self.sensor_tier.floor_mm,

@@ -25,8 +25,9 @@ materials names it. The coupler (a 5 mm D-bore to the servo's spline) is a bough
 of the Cube Robot, whose latch blocks sit on two adjacent faces), it sits beside it, its output
 parallel to the shaft one gear centre distance away along the face (``servo_y`` of the block's
 place), and a 1:1 pair of stock spur gears (:mod:`cubot_cad.gears`) carries the turn: one with a hub
-on the blade's D-shaft (set screw on the flat), one screwed to the servo's horn, both in the plane
-:data:`COUPLER_GAP_MM` off the stack's last plate. The servo's output face is then that gap + the
+on the blade's D-shaft (set screw on the flat), one screwed to the servo's horn (its arms cut
+short, :func:`horn_trim_mm`), both in the plane :data:`COUPLER_GAP_MM` past the block's screw
+ends and nuts (``proud_mm`` beyond the stack's last plate). The servo's output face is then that gap + the
 gear's face + the horn's stack (:meth:`LatchDriveSpec.horn_stack_mm`) behind the stack; the blade
 turns the other way from the servo (the controller reverses it). Frame and tabs are as above.
 
@@ -64,6 +65,9 @@ class LatchDriveSpec:
     #: A geared drive's pair (:mod:`cubot_cad.gears`): on the blade's D-shaft (hubbed) / on the servo's horn.
     blade_gear: str = "M0.5 z48 hub"
     servo_gear: str = "M0.5 z48"
+    #: How far the latch block's screw ends and nuts stand proud of the stack's last plate (mm): a
+    #: geared drive's gears turn :data:`COUPLER_GAP_MM` past them (the robot sets it from its screws).
+    proud_mm: float = 0.0
     frame_mm: float = 5.0
     frame_margin_mm: float = 2.0
     clearance_mm: float = DEFAULT_CLEARANCE_MM
@@ -73,6 +77,8 @@ class LatchDriveSpec:
         from .cubot import check_dims
 
         check_dims(self, ("frame_mm", "frame_margin_mm"))
+        need(isinstance(self.proud_mm, (int, float)) and self.proud_mm >= 0,
+             f"LatchDriveSpec.proud_mm must be >= 0, got {self.proud_mm!r}")
         self.servo_row  # noqa: B018 (an unknown servo is refused here)
         self.gear_offset_mm  # noqa: B018 (unknown or non-meshing gears are refused here)
         need(at_least(self.frame_margin_mm, MIN_WALL_MM),
@@ -133,8 +139,13 @@ class LatchDriveSpec:
         """x of the servo's output face for a latch stack ending at ``stack_end_x_mm`` (robot frame): a
         coupler's length behind it, or (``geared``) the gear's face and the horn's stack."""
         if geared:
-            return stack_end_x_mm + COUPLER_GAP_MM + self.gears[1].face_mm + self.horn_stack_mm
+            return self.gear_plane_x_mm(stack_end_x_mm) + self.gears[1].face_mm + self.horn_stack_mm
         return stack_end_x_mm + COUPLER_GAP_MM + self.coupler_mm
+
+    def gear_plane_x_mm(self, stack_end_x_mm: float) -> float:
+        """x of a geared drive's gears' stack-side faces: :data:`COUPLER_GAP_MM` past the block's screw
+        ends and nuts (``proud_mm``)."""
+        return stack_end_x_mm + self.proud_mm + COUPLER_GAP_MM
 
     def case_mm(self, stack_end_x_mm: float, y: float, z: float,
                 geared: bool = False) -> tuple[float, float, float, float, float, float]:
@@ -243,14 +254,14 @@ class LatchDriveSpec:
     def gear_components(self, stack_end_x_mm: float, blocks_yz, key: str = "latch_gear", yaw_deg: float = 0.0) -> list:
         """The geared blocks' gear pairs (none when every servo is coaxial): the hubbed gear on each such
         blade's D-shaft and the plain one screwed to its servo's horn, both in the plane
-        :data:`COUPLER_GAP_MM` off the stack, turned like :meth:`component`."""
+        :meth:`gear_plane_x_mm`, turned like :meth:`component`."""
         geared = [(b[0], self.place(b)) for b in blocks_yz if self.place(b)[2]]
         if not geared:
             return []
         bg, sg = self.gears
         from .shapes import yaw_point
 
-        xc = stack_end_x_mm + COUPLER_GAP_MM + bg.face_mm / 2
+        xc = self.gear_plane_x_mm(stack_end_x_mm) + bg.face_mm / 2
         return [GearStandIn(f"{key}_blade", bg.describe("on a latch blade's D-shaft, set screw on the flat, hub inward"),
                             bg.mass_g, tuple(yaw_point((xc, y, z), yaw_deg) for y, (_sy, z, _g) in geared), (bg.pitch_diameter_mm, bg.face_mm),
                             "cyl_y" if round(yaw_deg / 90) % 2 else "cyl_x", "motor", (0.85, 0.85, 0.8), gear_name=bg.name, yaw_deg=yaw_deg),
@@ -261,7 +272,8 @@ class LatchDriveSpec:
 
     def gear_screws(self, robot: str, count: int) -> list:
         """Two M2 per servo gear, through the gear into its horn's innermost arm holes (cut into the
-        horn's plastic as the servo's own screws are)."""
+        horn's plastic as the servo's own screws are; the arms cut off :func:`horn_trim_mm` from the
+        centre)."""
         from .fasteners import bolted
 
         sv = self.servo_row
@@ -283,10 +295,17 @@ class LatchDriveSpec:
                       count - geared)]
         if geared:
             bg = self.gears[0]
-            length = shaft_length_mm - SHAFT_INTO_COUPLER_MM + bg.face_mm + bg.hub_mm
+            length = shaft_length_mm - SHAFT_INTO_COUPLER_MM + self.proud_mm + COUPLER_GAP_MM + bg.face_mm + bg.hub_mm
             rows.append(("latch_shaft_geared", "steel D-shaft (0.5 mm flat) from the latch blade through its gear's hub",
                          f"diameter {shaft_mm:g} x {length:.0f} mm, {flat_mm:g} mm across the flat", geared))
         return rows
+
+
+def horn_trim_mm(horn) -> float:
+    """A geared servo's horn has its arms cut this far from the centre (mm): 2 mm past the innermost
+    holes, which take the screws into the gear (whole arms would sweep into the neighbouring block's
+    coupler)."""
+    return horn.hole_radii_mm[0] + 2.0
 
 
 @dataclass(frozen=True)
@@ -297,7 +316,7 @@ class GearStandIn(Component):
     the pitch cylinder less :data:`STANDIN_PITCH_INSET_MM` (two meshing gears' pitch cylinders touch
     along a line; tessellated, exactly tangent ones would overlap), the hub of a hubbed
     gear (on the side away from the stack), and on a servo's gear (``horn_stack_mm`` > 0) the horn
-    between it and the servo: its cap and the disc its arms sweep."""
+    between it and the servo: its cap and the disc its arms sweep, cut to :func:`horn_trim_mm`."""
 
     gear_name: str = ""
     yaw_deg: float = 0.0
@@ -320,7 +339,7 @@ class GearStandIn(Component):
             if self.horn_stack_mm > 0:
                 h = servo(self.servo_model).horn
                 xa = x + g.face_mm  # the horn's flat arm face on the gear
-                s = s.fuse(cyl(h.arm_length_mm, h.arm_mm, (xa, y, z), X)).fuse(
+                s = s.fuse(cyl(horn_trim_mm(h), h.arm_mm, (xa, y, z), X)).fuse(
                     cyl(h.hub_diameter_mm / 2, h.height_mm, (xa, y, z), X))
             out.append(rotated(s.clean(), Z, self.yaw_deg) if self.yaw_deg else s.clean())
         return out

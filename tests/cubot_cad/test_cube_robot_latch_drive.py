@@ -56,7 +56,8 @@ def test_four_table_servos_three_on_their_blades_axes_one_geared_beside_it(robot
     spec = robot.latch_spec
     S, end = robot.size_mm / 2, robot.fr_spec.latch_stack_mm
     coax_face = S - end - COUPLER_GAP_MM - spec.coupler_mm  # distance of a coaxial output face from the middle
-    geared_face = S - end - COUPLER_GAP_MM - spec.gears[1].face_mm - spec.horn_stack_mm
+    geared_face = S - end - spec.proud_mm - COUPLER_GAP_MM - spec.gears[1].face_mm - spec.horn_stack_mm
+    assert spec.proud_mm == pytest.approx(robot.latch_screw_proud_mm) and spec.proud_mm > 2.4  # past the nuts
     assert coax_face == pytest.approx(S - end - 0.3 - 10.08) and geared_face < coax_face + 2
     rear, left = comps["latch_servo"], comps["latch_servo_left"]
     for c in (rear, left):
@@ -88,10 +89,11 @@ def test_coaxial_the_corner_pair_would_meet(robot):
 
 
 def test_the_gear_pair_meshes_on_the_blade_and_the_servo_axes(robot):
-    """Both gears of one module in one plane 0.3 mm off the latch stack, the hubbed one on the blade's
-    axis and the plain one on the geared servo's output axis, their pitch circles touching: the two
-    stand-ins touch nothing and overlap once moved 0.1 mm towards each other; the servo's horn fits
-    between its gear and its face, and the blade gear's hub clears the horn's arms at any turn."""
+    """Both gears of one module in one plane 0.3 mm past the latch block's screw ends, the hubbed one on
+    the blade's axis and the plain one on the geared servo's output axis, their pitch circles touching:
+    the two stand-ins touch nothing and overlap once moved 0.1 mm towards each other; the servo's horn
+    fits between its gear and its face; the gears' tip circles clear every nut and screw end of the
+    latch blocks."""
     from cubot_cad.gears import mesh_centre_distance_mm
     from cubot_cad.latch_drive import COUPLER_GAP_MM
 
@@ -106,7 +108,8 @@ def test_the_gear_pair_meshes_on_the_blade_and_the_servo_axes(robot):
     S = robot.size_mm / 2
     assert [xb, zb] == pytest.approx([-robot.block_offset_mm, robot.block_z_mm])
     assert [xs, zs] == pytest.approx([servo_axle[0], servo_axle[2]])
-    assert yb == pytest.approx(ys) == pytest.approx(S - robot.fr_spec.latch_stack_mm - COUPLER_GAP_MM - g_b.face_mm / 2)
+    assert yb == pytest.approx(ys) == pytest.approx(
+        S - robot.fr_spec.latch_stack_mm - spec.proud_mm - COUPLER_GAP_MM - g_b.face_mm / 2)
     assert math.dist((xb, zb), (xs, zs)) == pytest.approx(mesh_centre_distance_mm(g_b, g_s))
     # the servo's face is the gear's far face + the horn's stack
     assert servo_axle[1] == pytest.approx(ys - g_s.face_mm / 2 - spec.horn_stack_mm)
@@ -115,6 +118,14 @@ def test_the_gear_pair_meshes_on_the_blade_and_the_servo_axes(robot):
     assert _iv(a, _m(s)) <= FREE_MM3
     assert _iv(_m(b.translate((0.1, 0, 0))), _m(s)) > 0.1
     assert _iv(_m(b), _m(s.translate((-0.1, 0, 0)))) > 0.1
+    # the teeth (tip circles) against the latch blocks' nuts and screw ends
+    from cubot_cad.shapes import cyl
+
+    hw = [_m(h.shape) for h in robot.hardware()]
+    assert len(hw) == 32
+    for x in (xb, xs):
+        tip = _m(cyl(g_b.tip_diameter_mm / 2, g_b.face_mm, (x, yb + g_b.face_mm / 2, zb), (0.0, -1.0, 0.0)))
+        assert all(_iv(tip, h) <= FREE_MM3 for h in hw)
 
 
 def test_the_tabs_rest_on_their_frames_and_the_cases_pass_their_windows(robot, cuboid):
@@ -201,6 +212,7 @@ def test_other_block_offsets_take_the_stock_pair_that_fits(offset, teeth):
     assert abs(sy + offset) == pytest.approx(teeth * 0.5)
     latch = [_m(s) for c in r.latch_components() for s in c.solids()]
     rest = [_m(s) for c in r.components() if not c.key.startswith("latch") for s in c.solids()]
+    rest += [_m(h.shape) for h in r.hardware()]
     body = _m(r.cuboid.build())
     assert all(_iv(a, b) <= FREE_MM3 for a, b in itertools.combinations(latch, 2))
     assert all(_iv(a, b) <= FREE_MM3 for a in latch for b in rest + [body])
