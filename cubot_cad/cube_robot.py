@@ -307,7 +307,12 @@ class ConnectorCuboid(Part):
     @property
     def latch_stack_end_mm(self) -> float:
         """x where a rear face's latch stacks end inside the cuboid (the rear face's frame)."""
-        return -self.size_mm / 2 + self.fr.latch_stack_mm
+        return self.stack_end_mm(self.size_mm, self.fr)
+
+    @staticmethod
+    def stack_end_mm(size_mm: float, fr: FrontRearSpec) -> float:
+        """:attr:`latch_stack_end_mm` of a cuboid ``size_mm`` wide with connector blocks ``fr``."""
+        return -size_mm / 2 + fr.latch_stack_mm
 
     def latch_frames(self) -> list:
         """The latch servos' frames, turned onto their faces."""
@@ -583,8 +588,9 @@ class CubeRobot(Robot):
 
     @property
     def cuboid_stack_end_mm(self) -> float:
-        """x where a rear face's latch stacks end inside the cuboid (the rear face's frame)."""
-        return -self.size_mm / 2 + self.fr_spec.latch_stack_mm
+        """x where a rear face's latch stacks end inside the cuboid (the rear face's frame; the
+        cuboid's own :attr:`ConnectorCuboid.latch_stack_end_mm`, known before the cuboid is built)."""
+        return ConnectorCuboid.stack_end_mm(self.size_mm, self.fr_spec)
 
     @cached_property
     def sensor_tier(self) -> SensorCylinder:

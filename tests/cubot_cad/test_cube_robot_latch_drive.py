@@ -10,19 +10,11 @@ import math
 
 import pytest
 
+from cubot_cad.docking import intersection_volume as _iv
+from cubot_cad.docking import to_manifold as _m
+
+#: A stand-in "touches nothing" below this intersection volume (mm^3).
 FREE_MM3 = 1e-3
-
-
-def _m(shape):
-    from cubot_cad.docking import to_manifold
-
-    return to_manifold(shape)
-
-
-def _iv(a, b) -> float:
-    from cubot_cad.docking import intersection_volume
-
-    return intersection_volume(a, b)
 
 
 @pytest.fixture(scope="module")
