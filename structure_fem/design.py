@@ -12,6 +12,15 @@ climb clearance. The tip falls as the stiffness grows and as the play or the mas
 the bisection relies on; a width whose solve does not converge counts as not spanning. Each
 answer says whether the structure already spans ``w`` (then the factor says how much of that
 quantity it could lose) and gives the scaled values.
+
+With ``StudyInputs.dynamic`` (the default of ``fem table`` and ``fem design``) the criterion is the
+table's: static tip + launch-transient allowance (:func:`structure_fem.dynamics.dynamic_allowance_m`
+through :mod:`structure_fem.dynamics_cache`) <= clearance. The allowance is >= 0, so the dynamic
+boundary lies on the passing side of the static one: the static bisection brackets it first (cheap
+solves), then :data:`DYNAMIC_ITERATIONS` more halvings between the static boundary and the range's
+good end each integrate the transients of one scaled input (0.3-1 s for a line, seconds for an
+arch, cached by input hash). The answer gives both factors (``static_factor``, ``factor``) and the
+allowance at the answer.
 """
 
 from __future__ import annotations
@@ -21,6 +30,9 @@ from dataclasses import replace
 
 from .errors import InputError, SolverFailure
 from .study import StudyInputs, candidate_structures, min_rows
+
+#: Halvings of the dynamic refinement (each integrates one scaled input's launch transients).
+DYNAMIC_ITERATIONS = 8
 
 #: (name, passes when the factor is "above" or "below" the boundary, search range, log scale).
 PARAMETERS = {
@@ -61,6 +73,62 @@ def _passes(s, w, inp, param, x) -> tuple[bool, float | None]:
     return (t is not None and t <= inp.clearance_m * 1e3), t
 
 
+def dynamic_tip_mm(s, w: int, inp: StudyInputs) -> tuple[float | None, float | None]:
+    """(static tip, launch allowance) in mm at the longest cantilever with minimal standing rows, as
+    the table's dynamic criterion takes them; (None, None) when a solve or a transient does not
+    converge (counted as not spanning, as the table does)."""
+    from .dynamics_cache import allowance_m
+
+    try:
+        rows, res = min_rows(s, w, inp)
+        a = allowance_m(s, w, inp.robot, inp.damping_ratio, rows=rows, connectors=inp.connectors,
+                        flexible=inp.flexible, static=res)
+    except SolverFailure:
+        return None, None
+    return res.tip_deflection_mm, 1e3 * a
+
+
+def _passes_dynamic(s, w, inp, param, x) -> tuple[bool, float | None, float | None]:
+    t, a = dynamic_tip_mm(s, w, scaled_inputs(inp, param, x))
+    return (t is not None and t + a <= inp.clearance_m * 1e3), t, a
+
+
+def dynamic_boundary(s, w: int, inp: StudyInputs, param: str, static: dict,
+                     iterations: int = DYNAMIC_ITERATIONS) -> dict:
+    """:func:`boundary` under the dynamic criterion, from the static answer ``static`` (module
+    docstring): the static factor is kept as ``static_factor``."""
+    side, (lo, hi), log = PARAMETERS[param]
+    good = hi if side == "above" else lo
+    out = dict(static, static_factor=static.get("factor"), static_bracket=static.get("bracket"))
+    out.pop("bracket", None)
+    ok1, tip1, a1 = _passes_dynamic(s, w, inp, param, 1.0)
+    out.update(spans_now=ok1, allowance_now_mm=a1)
+    start = static.get("factor")
+    if start is None:  # not even the static criterion can be met by this parameter alone
+        return out
+    ok_s, _t, a_s = _passes_dynamic(s, w, inp, param, start)
+    if ok_s:  # no overshoot to pay for at the static boundary (allowance 0 there)
+        out.update(factor=start, allowance_mm=a_s, bracket=static.get("bracket"))
+        return out
+    ok_g, t_g, a_g = _passes_dynamic(s, w, inp, param, good)
+    if not ok_g:
+        out.update(factor=None, note=(f"does not span {w} by {param} alone with the launch transients: even at "
+                                      f"x{good:g} the tip + allowance is "
+                                      + ("not converged" if t_g is None else f"{t_g + a_g:.2f} mm")))
+        return out
+    a, b, a_at = good, start, a_g  # a passes, b fails
+    for _ in range(iterations):
+        m = math.sqrt(a * b) if log and a > 0 and b > 0 else 0.5 * (a + b)
+        ok, _t, am = _passes_dynamic(s, w, inp, param, m)
+        if ok:
+            a, a_at = m, am
+        else:
+            b = m
+    out.update(factor=a, allowance_mm=a_at, bracket=sorted((a, b)))
+    out.pop("note", None)
+    return out
+
+
 def boundary(s, w: int, inp: StudyInputs, param: str, iterations: int = 14) -> dict:
     """The factor on ``param`` at which ``s`` just spans ``w`` (see the module docstring)."""
     side, (lo, hi), log = PARAMETERS[param]
@@ -95,14 +163,16 @@ def design(inp: StudyInputs, structure: str, w: int, params=tuple(PARAMETERS)) -
     s = structure_named(inp, structure)
     s.check_connectors(inp.connectors, inp.robot.name)
     fr = inp.connectors.front_rear
-    # static criterion: a bisection of launch transients would be minutes per parameter; the
-    # launch allowance at the answer is what `fem table` then adds (it can cost a width)
-    out = {"structure": s.name, "void_width": w, "clearance_mm": inp.clearance_m * 1e3,
-           "criterion": "static tip <= clearance (the table adds the launch allowance)", "results": []}
+    crit = ("static tip + launch-transient allowance <= clearance (the table's)" if inp.dynamic else
+            "static tip <= clearance (--static: the table's default adds the launch allowance)")
+    out = {"structure": s.name, "void_width": w, "clearance_mm": inp.clearance_m * 1e3, "criterion": crit,
+           "dynamic": inp.dynamic, "results": []}
     for p in params:
         if p not in PARAMETERS:
             raise InputError(f"--vary {p!r} is not one of {', '.join(PARAMETERS)}")
         r = boundary(s, w, inp, p)
+        if inp.dynamic:
+            r = dynamic_boundary(s, w, inp, p, r)
         x = r.get("factor")
         if x is not None:
             if p == "stiffness":
@@ -128,5 +198,9 @@ def describe(res: dict) -> str:
             lines.append(f"  {r['parameter']}: {now} (tip {tip}); {r.get('note', '')}")
             continue
         vals = ", ".join(f"{k} {v:.4g}" for k, v in r["values"].items())
-        lines.append(f"  {r['parameter']}: x{r['factor']:.3g} ({vals}); {now} (tip {tip})")
+        extra = ""
+        if r.get("static_factor") is not None:
+            extra = (f"; static criterion alone x{r['static_factor']:.3g}, launch allowance at the answer "
+                     f"{r.get('allowance_mm') or 0.0:.2f} mm")
+        lines.append(f"  {r['parameter']}: x{r['factor']:.3g} ({vals}); {now} (tip {tip}){extra}")
     return "\n".join(lines)

@@ -11,8 +11,17 @@ from structure_fem.runs import RunOptions, make_inputs  # noqa: E402
 
 
 @pytest.fixture(scope="module")
-def inp():
+def dyn():
+    """The table's default inputs: the dynamic criterion (static tip + launch allowance)."""
     return make_inputs(RunOptions())[0]
+
+
+@pytest.fixture(scope="module")
+def inp(dyn):
+    """The same with the static criterion (``--static``)."""
+    from dataclasses import replace
+
+    return replace(dyn, dynamic=False)
 
 
 def test_the_play_factor_is_where_the_line_just_spans_the_void(inp):
@@ -26,6 +35,30 @@ def test_the_play_factor_is_where_the_line_just_spans_the_void(inp):
     assert D.tip_mm(s, w, D.scaled_inputs(inp, "play", r["factor"] * 1.05)) > clear
     assert r["values"]["front_rear_tension_play_mm"] == pytest.approx(
         1e3 * inp.connectors.front_rear.play_x[1] * r["factor"])
+
+
+def test_with_the_launch_transients_the_boundary_asks_for_less_play(dyn, inp):
+    """Under the table's dynamic criterion the play factor is the boundary of static tip + launch
+    allowance <= clearance, on the passing side of the static one (the allowance is >= 0): passing at
+    the factor, failing at the bracket's other end, both recomputed here."""
+    s = D.structure_named(dyn, "line")
+    w = 5
+    res = D.design(dyn, "line", w, ("play",))
+    assert res["dynamic"] is True and "allowance" in res["criterion"]
+    (r,) = res["results"]
+    (st,) = D.design(inp, "line", w, ("play",))["results"]
+    assert r["static_factor"] == pytest.approx(st["factor"])
+    assert 0 < r["factor"] < r["static_factor"]
+    clear = dyn.clearance_m * 1e3
+    t, a = D.dynamic_tip_mm(s, w, D.scaled_inputs(dyn, "play", r["factor"]))
+    assert t + a <= clear and a == pytest.approx(r["allowance_mm"]) and a > 0
+    lo, hi = r["bracket"]
+    assert lo == r["factor"] and hi > lo
+    t2, a2 = D.dynamic_tip_mm(s, w, D.scaled_inputs(dyn, "play", hi))
+    assert t2 + a2 > clear
+    assert r["values"]["front_rear_tension_play_mm"] == pytest.approx(
+        1e3 * dyn.connectors.front_rear.play_x[1] * r["factor"])
+    assert "static criterion alone" in D.describe(res)
 
 
 def test_a_void_the_structure_spans_already_reports_how_much_it_could_lose(inp):
@@ -59,5 +92,9 @@ def test_design_cli_prints_each_parameter(cli):
     res = cli("fem", "design", "--void-width", "4", "--structure", "line", "--vary", "play", "--json")
     assert res.code == 0, res.err
     out = res.json()
-    assert out["structure"] == "line" and out["void_width"] == 4
+    assert out["structure"] == "line" and out["void_width"] == 4 and out["dynamic"] is True
     assert [r["parameter"] for r in out["results"]] == ["play"]
+    assert out["results"][0]["factor"] <= out["results"][0]["static_factor"]
+    res = cli("fem", "design", "--void-width", "4", "--structure", "line", "--vary", "play", "--static", "--json")
+    assert res.code == 0, res.err
+    assert res.json()["dynamic"] is False and "static_factor" not in res.json()["results"][0]
