@@ -381,6 +381,12 @@ def _write_export(out: Path, models: dict, formats: tuple, material_name: str, m
                   "estimate (structure_fem calibrates)")
         props[name] = r.robot_properties(material_name, source=source, printed_fraction=frac) \
             if not gaps or name not in gaps else _with_gaps(r, material_name, source, gaps[name], frac)
+        if frac:  # the heavy end of the infill range: the same robot with its printed parts solid
+            solid = r.mass_properties(material_name).mass_kg
+            props[name] = replace(props[name], solid_print_mass_kg=solid, solid_print_mass_source=(
+                f"cubot_cad: the same robot with its printed parts as OCC solids (100 % infill) at "
+                f"{material_name.upper()}'s density, {1e3 * solid:.1f} g against {1e3 * props[name].mass_kg:.1f} g as "
+                "sliced"))
     from .pier import stack_fields
 
     # standing height, stack pitch and deck height of the robots that stack (measured when docked)

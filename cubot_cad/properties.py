@@ -260,6 +260,19 @@ class RobotProperties:
     #: record written before it): `structure_fem.bodies` falls back to the envelope box.
     body_second_moment_m4: float | None = None
     body_second_moment_source: str | None = None
+    #: The robot's mass if its printed parts were solid (100 % infill; kg), beside ``mass_kg`` at the
+    #: recorded print settings, and how it was obtained: the heavy end of the infill a maker may choose
+    #: (`structure_fem.margins`' threshold range). None: not in the record (or not sliced: then
+    #: ``mass_kg`` is already the solid one).
+    solid_print_mass_kg: float | None = None
+    solid_print_mass_source: str | None = None
+
+    def with_mass_scaled(self, k: float) -> RobotProperties:
+        """The same robot ``k`` times as heavy: mass, inertia and the solid-print mass scaled, the centre
+        of mass kept (a study's scaled input, not a measured record)."""
+        solid = None if self.solid_print_mass_kg is None else self.solid_print_mass_kg * k
+        return replace(self, mass_kg=self.mass_kg * k, inertia_kg_m2=tuple(i * k for i in self.inertia_kg_m2),
+                       solid_print_mass_kg=solid)
 
     def __post_init__(self) -> None:
         require(bool(self.name), "robot name must not be empty")
@@ -281,6 +294,15 @@ class RobotProperties:
         for name in ("length_m", "width_m", "height_m", "mass_kg", "density_kg_m3", "youngs_modulus_pa"):
             v = getattr(self, name)
             require(_finite(v) and v > 0, f"{self.name}.{name} must be > 0, got {v!r}")
+        m_s, m_src = self.solid_print_mass_kg, self.solid_print_mass_source
+        if m_s is None:
+            require(m_src is None, f"{self.name}.solid_print_mass_source is given without solid_print_mass_kg")
+        else:
+            require(_finite(m_s) and m_s >= self.mass_kg * (1 - 1e-9),
+                    f"{self.name}.solid_print_mass_kg must be >= mass_kg {self.mass_kg!r} (solid parts are not "
+                    f"lighter than printed ones), got {m_s!r}")
+            require(isinstance(m_src, str) and bool(m_src.strip()),
+                    f"{self.name}.solid_print_mass_kg needs a solid_print_mass_source saying where it comes from")
         for name in ("wheel_exposed_height_m", "caster_exposed_height_m"):
             v = getattr(self, name)
             require(_finite(v) and v >= 0, f"{self.name}.{name} must be >= 0, got {v!r}")

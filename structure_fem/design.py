@@ -55,8 +55,7 @@ def scaled_inputs(inp: StudyInputs, param: str, x: float) -> StudyInputs:
         return replace(inp, connectors=inp.connectors.scaled(x, 1.0))
     if param == "play":
         return replace(inp, connectors=inp.connectors.scaled(1.0, x))
-    r = inp.robot
-    return replace(inp, robot=replace(r, mass_kg=r.mass_kg * x, inertia_kg_m2=tuple(i * x for i in r.inertia_kg_m2)))
+    return replace(inp, robot=inp.robot.with_mass_scaled(x))
 
 
 def tip_mm(s, w: int, inp: StudyInputs) -> float | None:

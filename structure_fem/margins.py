@@ -27,8 +27,13 @@ For each structure of a :class:`~structure_fem.study.Derivation` at its threshol
   ``play_total``, ``support``, ``bodies`` and ``elastic``, by share of the tip.
 * **range** over plausible inputs, one factor at a time and the combined extremes: print
   clearance 0.1 and 0.4 mm (every play scaled by clearance / the record's clearance), printed
-  instead of bulk modulus (every stiffness and the bodies' modulus x ``PRINTED_MODULUS_FACTOR``). Each variant's
-  threshold is found by stepping from the base threshold (the tip grows with the width).
+  instead of bulk modulus (every stiffness and the bodies' modulus x ``PRINTED_MODULUS_FACTOR``), and
+  the infill: the printed parts solid (100 % infill, the record's ``solid_print_mass_kg``: mass and
+  inertia scaled by solid / as-sliced mass, centre of mass kept: an assumption), the heavy end of
+  what a maker may print (the record is at its parts' recorded infill). The combined worst case
+  takes the loose clearance, the printed modulus and (when the record has it) the solid parts.
+  Each variant's threshold is found by stepping from the base threshold (the tip grows with the
+  width).
 """
 
 from __future__ import annotations
@@ -46,6 +51,8 @@ from .study import Curve, Derivation, StudyInputs, min_rows
 PRINTED_MODULUS_FACTOR = 0.7
 #: Print clearances (mm) the range covers: a tight and a loose printer.
 PRINT_CLEARANCE_RANGE_MM = (0.1, 0.4)
+#: The infill variant's name (the record's ``solid_print_mass_kg``).
+SOLID_VARIANT = "printed parts solid (100 % infill)"
 #: A threshold is flagged marginal when its margin is below this fraction of the climb clearance.
 MARGINAL_FRACTION = 0.05
 
@@ -141,14 +148,23 @@ def _variants(inp: StudyInputs) -> list[tuple[str, StudyInputs]]:
     lo, hi = PRINT_CLEARANCE_RANGE_MM
     soft = PRINTED_MODULUS_FACTOR
 
-    def v(play: float, stiff: float) -> StudyInputs:
+    r0 = inp.robot
+    heavy = 1.0 if r0.solid_print_mass_kg is None else r0.solid_print_mass_kg / r0.mass_kg
+
+    def v(play: float, stiff: float, mass: float = 1.0) -> StudyInputs:
         # the printed modulus softens the bodies too (flexible bodies bend with E I)
-        robot = inp.robot if stiff == 1.0 else replace(inp.robot, youngs_modulus_pa=inp.robot.youngs_modulus_pa * stiff)
+        robot = r0 if stiff == 1.0 else replace(r0, youngs_modulus_pa=r0.youngs_modulus_pa * stiff)
+        if mass != 1.0:  # solid printed parts: the same distribution, heavier (assumption)
+            robot = robot.with_mass_scaled(mass)
         return replace(inp, robot=robot, connectors=inp.connectors.scaled(stiff, play))
 
-    return [(f"print clearance {lo:g} mm", v(lo / c0, 1.0)), (f"print clearance {hi:g} mm", v(hi / c0, 1.0)),
-            (f"printed modulus x{soft:g}", v(1.0, soft)),
-            (f"print clearance {hi:g} mm and printed modulus x{soft:g}", v(hi / c0, soft))]
+    out = [(f"print clearance {lo:g} mm", v(lo / c0, 1.0)), (f"print clearance {hi:g} mm", v(hi / c0, 1.0)),
+           (f"printed modulus x{soft:g}", v(1.0, soft)),
+           (f"print clearance {hi:g} mm and printed modulus x{soft:g}", v(hi / c0, soft))]
+    if heavy != 1.0:
+        out += [(SOLID_VARIANT, v(1.0, 1.0, heavy)),
+                (f"print clearance {hi:g} mm, printed modulus x{soft:g} and {SOLID_VARIANT}", v(hi / c0, soft, heavy))]
+    return out
 
 
 def structure_report(d: Derivation, c: Curve, ranges: bool = True) -> dict:

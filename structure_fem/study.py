@@ -24,7 +24,7 @@ from __future__ import annotations
 import bisect
 import math
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 from cubot_cad.properties import RobotProperties
 
@@ -73,8 +73,7 @@ class StudyInputs:
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise InputError(f"{name} must be > 0, got {v!r}")
         if mass_scale != 1.0:
-            robot = replace(robot, mass_kg=robot.mass_kg * mass_scale,
-                            inertia_kg_m2=tuple(i * mass_scale for i in robot.inertia_kg_m2))
+            robot = robot.with_mass_scaled(mass_scale)
         conn = ConnectorSet.from_robot(robot).scaled(stiffness_scale, backlash_scale)
         if clearance_mm is None:
             clearance_m = robot.wheel_exposed_height_m

@@ -21,6 +21,13 @@ def props() -> RobotPropertiesFile:
     return default_properties()
 
 
+def test_the_sliced_records_say_what_they_weigh_printed_solid(props):
+    """Each packaged (sliced) record carries the same robot's mass with its printed parts solid: the
+    heavy end of the infill range structure_fem's threshold range takes."""
+    for r in props.robots:
+        assert r.solid_print_mass_kg > r.mass_kg and "100 % infill" in r.solid_print_mass_source
+
+
 def test_packaged_defaults_hold_every_robot(props):
     assert {"cubot", "octbot", "cube-robot", "platform"} <= set(props.names)
     assert props.get("cubot").connector("front_rear").kind == "front_rear"
@@ -58,6 +65,9 @@ def test_missing_file_is_input_error(tmp_path):
     ("length_m", float("nan"), "length_m must be > 0"),
     ("inertia_kg_m2", (1e-3, 1e-3, 5e-3, 0, 0, 0), "triangle inequality"),
     ("com_m", (0.0, 0.0), "com_m"),
+    ("solid_print_mass_kg", 0.1, "solid_print_mass_kg must be >= mass_kg"),
+    ("solid_print_mass_kg", float("inf"), "solid_print_mass_kg must be >= mass_kg"),
+    ("solid_print_mass_source", None, "needs a solid_print_mass_source"),
 ])
 def test_bad_values_are_named(props, field, value, match):
     cubot = props.get("cubot")

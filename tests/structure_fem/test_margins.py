@@ -62,8 +62,32 @@ def test_the_range_brackets_the_threshold_and_goes_the_physical_way(line_report)
     assert rg["min"] <= t <= rg["max"]
     assert by["print clearance 0.4 mm"] <= t <= by["print clearance 0.1 mm"]
     assert by["printed modulus x0.7"] <= t
-    assert by["print clearance 0.4 mm and printed modulus x0.7"] == rg["min"]
+    # the record is at its parts' recorded infill: solid parts (heavier) never widen the threshold,
+    # and the worst case takes all three
+    assert by[margins.SOLID_VARIANT] <= line_report["static_threshold"]  # the variants' criterion is static
+    worst = f"print clearance 0.4 mm, printed modulus x0.7 and {margins.SOLID_VARIANT}"
+    assert by[worst] == rg["min"] <= by["print clearance 0.4 mm and printed modulus x0.7"]
     assert rg["record_print_clearance_mm"] == pytest.approx(0.2)
+
+
+def test_the_infill_variant_is_the_records_solid_mass_and_moves_with_it():
+    """The variant scales mass and inertia by the record's solid / as-sliced mass; a record without
+    the field has no infill variant, and a heavier solid mass gives a heavier variant."""
+    from dataclasses import replace
+
+    inp, _ = make_inputs(RunOptions())
+    r = inp.robot
+    assert r.solid_print_mass_kg > r.mass_kg and "100 % infill" in r.solid_print_mass_source
+    vs = dict(margins._variants(inp))
+    solid = vs[margins.SOLID_VARIANT].robot
+    assert solid.mass_kg == pytest.approx(r.solid_print_mass_kg)
+    k = r.solid_print_mass_kg / r.mass_kg
+    assert solid.inertia_kg_m2 == pytest.approx(tuple(i * k for i in r.inertia_kg_m2))
+    bare = replace(inp, robot=replace(r, solid_print_mass_kg=None, solid_print_mass_source=None))
+    assert margins.SOLID_VARIANT not in dict(margins._variants(bare))
+    heavier = replace(inp, robot=replace(r, solid_print_mass_kg=2 * r.solid_print_mass_kg))
+    assert dict(margins._variants(heavier))[margins.SOLID_VARIANT].robot.mass_kg == pytest.approx(
+        2 * r.solid_print_mass_kg)
 
 
 def test_markdown_flags_a_marginal_threshold(line_report):
