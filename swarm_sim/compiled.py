@@ -140,12 +140,30 @@ if HAVE_NUMBA:
         h += v / (2.0 * h)
         return h / scale
 
+    @numba.njit(cache=True, inline="always")
+    def _hypot_below(a, b, lim):  # pragma: no cover - compiled
+        """``_py_hypot(a, b) < lim`` (lim > 0), computing the correctly rounded norm only when
+        ``a * a + b * b`` (within a few ulps of the norm's square) is within 1e-6 of ``lim ** 2``;
+        NaN and overflow fall through to the exact test."""
+        s2 = a * a + b * b
+        l2 = lim * lim
+        if s2 < l2 * (1.0 - 1e-6):
+            return True
+        if s2 > l2 * (1.0 + 1e-6) and s2 < 1e300:
+            return False
+        return _py_hypot(a, b) < lim
+
     @numba.njit(cache=True)
     def _pose_ok1(x, y, h, hl, hw, W, H, x0, x1, obs, r, two):  # pragma: no cover - compiled
         """:meth:`World.pose_ok1` for the square body (``two`` = 2.0 at run time: Python's
         ``v ** 2`` is libm's pow, which LLVM would fold into ``v * v`` for a constant)."""
-        c = abs(math.cos(h))
-        s = abs(math.sin(h))
+        return _pose_ok_cs(x, y, math.cos(h), math.sin(h), hl, hw, W, H, x0, x1, obs, r, two)
+
+    @numba.njit(cache=True)
+    def _pose_ok_cs(x, y, c, s, hl, hw, W, H, x0, x1, obs, r, two):  # pragma: no cover - compiled
+        """:func:`_pose_ok1` given the heading's cos and sin (a caller that has them)."""
+        c = abs(c)
+        s = abs(s)
         ex = hl * c + hw * s
         ey = hl * s + hw * c
         if x - ex < 0 or x + ex > W or y - ey < 0 or y + ey > H:
@@ -178,8 +196,12 @@ if HAVE_NUMBA:
         """:func:`swarm_sim.motion.goto` (``final_heading``/``align_h`` None <=> ``has_*`` False)."""
         dx = tx - x
         dy = ty - y
-        rr = _py_hypot(dx, dy)
-        if rr < 1e-9:
+        # the norm is needed exactly only when it is small (the arrival test, the last step) or in
+        # the rare fallback below; when it clearly exceeds dist, min(dist, rr) is dist
+        s2 = dx * dx + dy * dy
+        far = s2 > dist * dist * (1.0 + 1e-6) and s2 > 1e-18 * (1.0 + 1e-6) and s2 < 1e300
+        rr = dist if far else _py_hypot(dx, dy)
+        if not far and rr < 1e-9:
             if not has_final:
                 return x, y, h, True
             d = _wrap(final_h - h)
@@ -192,12 +214,14 @@ if HAVE_NUMBA:
             if _pose_ok1(x, y, nh, hl, hw, W, H, x0, x1, obs, r, two):
                 return x, y, nh, False
             return _slide_off(x, y, h, dist, hl, hw, W, H, x0, x1, obs, r, two)
-        step = dist if dist < rr else rr  # Python's min(dist, r)
+        step = dist if (far or dist < rr) else rr  # Python's min(dist, r)
         for off in (0.0, math.pi / 4, -math.pi / 4, math.pi / 2, -math.pi / 2):
             a = want + off
-            nx = x + step * math.cos(a)
-            ny = y + step * math.sin(a)
-            if _pose_ok1(nx, ny, a, hl, hw, W, H, x0, x1, obs, r, two):
+            ca = math.cos(a)
+            sa = math.sin(a)
+            nx = x + step * ca
+            ny = y + step * sa
+            if _pose_ok_cs(nx, ny, ca, sa, hl, hw, W, H, x0, x1, obs, r, two):
                 return nx, ny, a, False
         if _pose_ok1(x, y, want, hl, hw, W, H, x0, x1, obs, r, two):
             return x, y, want, False
@@ -206,6 +230,8 @@ if HAVE_NUMBA:
         if has_align:
             n_h = 2
             h_first = h + _clip(_wrap(align_h - h), tm)
+        if far:
+            rr = _py_hypot(dx, dy)
         for q in range(n_h):
             hh = h_first if q == 0 else h
             nx = x + step * dx / rr
@@ -288,7 +314,7 @@ if HAVE_NUMBA:
                      gcx, gcy, blocked, hops, dist, tm, hl, hw, W, H, x0, x1, obs, r, two):  # pragma: no cover
         """:func:`swarm_sim.motion.drive_along` (``align_h`` given, as the recruits call it), and
         the field's value it read (``-inf``: none; :func:`_waypoint`)."""
-        if _py_hypot(x - gx, y - gy) < 1e-9:
+        if _hypot_below(x - gx, y - gy, 1e-9):
             _, _, nh, done = _goto(gx, gy, h, gx, gy, True, final_h, False, 0.0, dist, tm,
                                    hl, hw, W, H, x0, x1, obs, r, two)
             if done:
@@ -302,7 +328,7 @@ if HAVE_NUMBA:
         at_goal = wx == gx and wy == gy
         nx, ny, nh, _ = _goto(x, y, h, wx, wy, False, 0.0, at_goal, align_h, dist, tm,
                               hl, hw, W, H, x0, x1, obs, r, two)
-        if at_goal and _py_hypot(nx - gx, ny - gy) < 1e-9:
+        if at_goal and _hypot_below(nx - gx, ny - gy, 1e-9):
             nx = gx
             ny = gy
         return nx, ny, nh, False, read
@@ -366,6 +392,17 @@ if HAVE_NUMBA:
         nbest = np.empty(nr)
         nsince = np.empty(nr)
         nfinal = np.zeros(nr, np.bool_)
+        # per recruit, constant while the kernel runs: the heading of its approach (from the
+        # field's goal point to its dock) and that leg's length
+        rec_in_h = np.empty(nr)
+        rec_tail = np.empty(nr)
+        for q in range(nr):
+            dxp = rec_f[q, 0]
+            dyp = rec_f[q, 1]
+            ax = rec_f[q, 2]
+            ay = rec_f[q, 3]
+            rec_in_h[q] = dir_h if _hypot_below(dxp - ax, dyp - ay, 1e-9) else math.atan2(dyp - ay, dxp - ax)
+            rec_tail[q] = _py_hypot(ax - dxp, ay - dyp)
         q4 = 0.5 * hw  # = 0.25 * width (World.void_ahead), exactly
         sense = hl + q4 + detect + 1.0  # no ground sensor reaches farther from the centre (cm)
         for j in range(n_steps):
@@ -458,7 +495,7 @@ if HAVE_NUMBA:
                     if rec_final[q]:
                         nx, ny, nh, arrived = _goto(rx, ry, rh, dxp, dyp, True, dir_h, True, dir_h, dist, turn_max,
                                                     hl, hw, W, H, x0w, x1w, obs_none, r, two)
-                        if arrived and _py_hypot(nx - dxp, ny - dyp) < 1e-9:
+                        if arrived and _hypot_below(nx - dxp, ny - dyp, 1e-9):
                             nx = dxp
                             ny = dyp
                             nh = dir_h
@@ -466,10 +503,7 @@ if HAVE_NUMBA:
                     else:
                         ax = rec_f[q, 2]
                         ay = rec_f[q, 3]
-                        if _py_hypot(dxp - ax, dyp - ay) < 1e-9:
-                            in_h = dir_h
-                        else:
-                            in_h = math.atan2(dyp - ay, dxp - ax)
+                        in_h = rec_in_h[q]
                         nx, ny, nh, fin, read = _drive_along(rx, ry, rh, in_h, in_h, f_cost[q], f_nxt[q],
                                                              f_closed[q], f_goal_cell[q], ax, ay, cell, gnx, gny,
                                                              window, gcx, gcy, blocked, hops, dist, turn_max, hl,
@@ -479,7 +513,7 @@ if HAVE_NUMBA:
                         if not (_final(read, rec_f[q, 6], rx, ry, f_closed[q], cell, gnx, gny, window)
                                 and _final(here, rec_f[q, 6], nx, ny, f_closed[q], cell, gnx, gny, window)):
                             stop = R_FIELD  # the field is not settled this far yet (fast_forward settles it)
-                        left = here + _py_hypot(ax - dxp, ay - dyp)
+                        left = here + rec_tail[q]
                     x[ri] = nx  # undone from the snapshot if the step is not committed
                     y[ri] = ny
                     h[ri] = nh

@@ -206,6 +206,23 @@ def test_python_hypot_port_is_cpythons_bit_for_bit():
     assert all(_py_hypot(x, y) == math.hypot(x, y) for x, y in zip(a.tolist(), b.tolist(), strict=True))
 
 
+def test_the_cheap_norm_comparison_answers_as_the_exact_norm_does():
+    """_hypot_below skips the correctly rounded norm away from the threshold: it must answer as
+    ``math.hypot(a, b) < lim`` everywhere, including within an ulp of the threshold."""
+    from swarm_sim.compiled import _hypot_below
+
+    rng = np.random.default_rng(11)
+    lim = 1e-9
+    # around the threshold: norms within a few ulps of lim, in every direction
+    ang = rng.uniform(0.0, 2 * math.pi, 4000)
+    rad = lim * (1.0 + rng.integers(-8, 9, 4000) * 2.0 ** -52)
+    a = np.concatenate([rad * np.cos(ang), rng.normal(size=4000) * 1e-9, [0.0, lim, -lim, 1e200, np.nan, np.inf]])
+    b = np.concatenate([rad * np.sin(ang), rng.normal(size=4000) * 1e-9, [lim, 0.0, 0.0, 1e200, 0.0, 0.0]])
+    for x, y in zip(a.tolist(), b.tolist(), strict=True):
+        assert _hypot_below(x, y, lim) == (math.hypot(x, y) < lim), (x, y)
+    assert _hypot_below(3.0, 4.0, 5.0 + 1e-15) and not _hypot_below(3.0, 4.0, 5.0)
+
+
 @pytest.mark.parametrize("preset,n,w", [("case-d", 9, 3), ("case-a", 8, 2)])
 def test_compiled_dijkstra_is_scipys_bit_for_bit(preset, n, w):
     """navigation.cost_field's compiled search (swarm_sim.dijkstra) against scipy's on random
