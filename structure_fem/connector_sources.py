@@ -160,8 +160,11 @@ def _fe_rail_key(robot: RobotProperties, which: str, cache_dir=None, compute: bo
     cub, mat, _settings = what
     if which == "side_rail":
         mesh = rk.FEMesh(rk.RAIL_SIZE_MM)
-        key = rk.rail_input_hash(rk.SideRailGeometry.from_cubot(cub), mat, mesh)
-        cls, run = rk.SideRailFE, (lambda: rk.side_rail_fe(cub, mat, mesh, cache_dir=cache_dir))
+        overlap = rail_overlap_m(robot, cub) * 1e3
+        if overlap <= 0:
+            return None, f"staggered rails do not overlap ({overlap:g} mm)"
+        key = rk.rail_input_hash(rk.SideRailGeometry.from_cubot(cub, overlap_mm=overlap), mat, mesh)
+        cls, run = rk.SideRailFE, (lambda: rk.side_rail_fe(cub, mat, mesh, cache_dir=cache_dir, overlap_mm=overlap))
     else:
         mesh = rk.FEMesh(rk.KEY_SIZE_MM)
         key = rk.key_input_hash(rk.TwistKeyGeometry.from_cubot(cub), mat, mesh)
@@ -339,6 +342,12 @@ def resolve(robot: RobotProperties, source: str = "fe", cache_dir=None,
     return robot, notes
 
 
+def rail_overlap_m(robot: RobotProperties, cub) -> float:
+    """How far two staggered robots' side rails engage (m): the CAD's rail length less half a pitch
+    (the record's robot length + its front-rear docked gap)."""
+    return cub.rail_spec.length_mm * 1e-3 - (robot.length_m + robot.connector("front_rear").gap_m) / 2
+
+
 def rail_in_pitch(rec: ConnectorProperties, rail_length_m: float, overlap_m: float,
                   aligned_overlap_m: float | None = None, fe=None) -> ConnectorProperties:
     """The side rail as the planar model needs it: in **pitch** (the two lines' bodies turning
@@ -354,8 +363,10 @@ def rail_in_pitch(rec: ConnectorProperties, rail_length_m: float, overlap_m: flo
     (x) the record's value is kept. The model's rectangle ``|z| <= d``, ``|theta| <= 2 d / l``
     contains the true free region ``|z| + |theta| l / 2 <= d`` (its corners are looser).
 
-    ``fe``: a :class:`structure_fem.rail_key_fe.SideRailFE`: its ``q`` (FE of the rail slice: lips +
-    tongue) in place of the record's, with ``provenance = "fe: ..."``; the rest as above."""
+    ``fe``: a :class:`structure_fem.rail_key_fe.SideRailFE`: its whole-wall values for this overlap
+    (``fe.wall``: both rails on their side walls, loaded over the overlap; ``k_z`` and ``k_pitch``
+    from the FE, not from ``q``), else its slice's ``q`` (lips + tongue, walls rigid) in place of the
+    record's, with ``provenance = "fe: ..."``; the play as above."""
     if not (rail_length_m > 0 and 0 < overlap_m <= rail_length_m + 1e-12):
         raise InputError(f"side rail overlap {overlap_m:g} m outside (0, rail length {rail_length_m:g} m]")
     q = rec.axial_stiffness_n_per_m / rail_length_m if fe is None else fe.q_n_per_m_per_m
@@ -368,12 +379,24 @@ def rail_in_pitch(rec: ConnectorProperties, rail_length_m: float, overlap_m: flo
     if aligned_overlap_m is not None:
         extra = (f"; aligned lines overlap {aligned_overlap_m * 1e3:.4g} mm (k_pitch {q * aligned_overlap_m ** 3 / 12:.4g} "
                  "N m/rad) but merge into one planar body: no rail coupling in the model")
+    hand_q = rec.axial_stiffness_n_per_m / rail_length_m
+    wall = getattr(fe, "wall", None) if fe is not None else None
+    if wall and abs(wall["overlap_mm"] - overlap_m * 1e3) < 1e-6:
+        k_z, k_p = wall["k_z_n_per_m"], wall["k_pitch_nm_per_rad"]
+        return replace(rec, rotational_stiffness_nm_per_rad=k_p, shear_stiffness_n_per_m=k_z,
+                       backlash_rad=2 * d / overlap_m,
+                       provenance=(f"{fe_provenance(fe)}; rail in pitch over the {overlap_m * 1e3:.4g} mm staggered "
+                                   f"overlap, whole rails on their side walls: k_z = {k_z:.4g} N/m, k_pitch = "
+                                   f"{k_p:.4g} N m/rad (the rail slice alone, walls rigid: q l = {q * overlap_m:.4g} N/m, "
+                                   f"q l^3 / 12 = {k_pitch:.4g} N m/rad; the hand formula's q {hand_q:.4g} N/m per m), "
+                                   f"pitch play = 2 x {d * 1e3:.3g} mm (rail_vertical, CAD) / l; along the rail the "
+                                   f"record's {rec.axial_stiffness_n_per_m:.4g} N/m" + extra))
     if fe is not None:
         return replace(rec, rotational_stiffness_nm_per_rad=k_pitch, shear_stiffness_n_per_m=q * overlap_m,
                        backlash_rad=2 * d / overlap_m,
                        provenance=(f"{fe_provenance(fe)}; rail in pitch over the {overlap_m * 1e3:.4g} mm staggered "
-                                   f"overlap: k_z = q l = {q * overlap_m:.4g} N/m, k_pitch = q l^3 / 12 = "
-                                   f"{k_pitch:.4g} N m/rad (hand formula's q {rec.axial_stiffness_n_per_m / rail_length_m:.4g}"
+                                   f"overlap (the rail slice alone, walls rigid): k_z = q l = {q * overlap_m:.4g} N/m, "
+                                   f"k_pitch = q l^3 / 12 = {k_pitch:.4g} N m/rad (hand formula's q {hand_q:.4g}"
                                    f" N/m per m), pitch play = 2 x {d * 1e3:.3g} mm (rail_vertical, CAD) / l; along "
                                    f"the rail the record's {rec.axial_stiffness_n_per_m:.4g} N/m" + extra))
     return replace(rec, rotational_stiffness_nm_per_rad=k_pitch, shear_stiffness_n_per_m=q * overlap_m,
@@ -405,9 +428,9 @@ def planar_side_rail_for(robot: RobotProperties, cache_dir=None):
                ("rotational_stiffness_nm_per_rad", "axial_stiffness_n_per_m", "backlash_rad", "height_m")):
         return None, "the record's side rail is not the parametric CuBot's hand formula (edited or another geometry)"
     length = cub.rail_spec.length_mm * 1e-3
-    pitch = robot.length_m + robot.connector("front_rear").gap_m
-    overlap = length - pitch / 2
+    overlap = rail_overlap_m(robot, cub)
     if overlap <= 0:
+        pitch = robot.length_m + robot.connector("front_rear").gap_m
         return None, f"staggered rails ({length * 1e3:g} mm) do not overlap at half a {pitch * 1e3:g} mm pitch"
     fe, where = fe_side_rail_for(robot, cache_dir)
     return rail_in_pitch(rec, length, overlap, aligned_overlap_m=length, fe=fe), where
@@ -571,7 +594,7 @@ def fit_moment_rotation(points, where: str) -> tuple[float, float, int]:
 PACKAGED_FINDERS = {"cubot": ("fe_front_rear_for", "fe_side_rail_for", "fe_top_twist_for"),
                     "cube-robot": ("fe_front_rear_for",), "platform": ("fe_platform_bolt_for",)}
 #: Each finder's cold time when last computed (s, this machine): only to start the longest first.
-_EXPECTED_COLD_S = {"fe_front_rear_for": 120.0, "fe_top_twist_for": 66.0, "fe_side_rail_for": 41.0,
+_EXPECTED_COLD_S = {"fe_front_rear_for": 120.0, "fe_top_twist_for": 66.0, "fe_side_rail_for": 70.0,
                     "fe_platform_bolt_for": 48.0}
 
 

@@ -10,7 +10,7 @@ by the sha256 of geometry + material + mesh (same cache directory, same packaged
 :class:`~cubot_cad.connectors.RailFemale`). A representative slice of the engaged rail: each
 half's cross-section (male: plate + dovetail tongue; female: plate with the groove) extruded
 ``slice_mm`` along the rail, its back face (on the robot's side wall) clamped: **the side walls
-are rigid** in this model (assumption; see the note below). The two rails' faces slide on each
+are rigid** in this slice (the walls come in below). The two rails' faces slide on each
 other (docked gap 0). In the planar model's pitch direction the load is vertical (z): with the
 play taken up the tongue bears on one slanted flank of the groove (the upper one when pushed up).
 Each half is loaded on that flank alone by a uniform vertical traction (the tongue's flank on the
@@ -18,21 +18,42 @@ male, the groove's flank over the tongue's depth on the female: a bonded flank, 
 wedging) and its compliance is the mean vertical displacement of the flank; the joint is the two
 halves in series. Per metre of engagement: ``q = F / (u slice)``; the slice's ends are free (the
 screws, IR holes and end lead-ins are left out: a slice between the screws).
-:func:`structure_fem.connector_sources.rail_in_pitch` then gives ``k_z = q l`` and
-``k_pitch = q l^3 / 12`` over the overlap ``l``, the play the CAD's clearance (unchanged).
+:func:`structure_fem.connector_sources.rail_in_pitch` would give ``k_z = q l`` and
+``k_pitch = q l^3 / 12`` over the overlap ``l`` (the rigid-wall bound; the play the CAD's clearance).
 
-Not in the model: the robots' 2.4 mm side walls. The vertical load goes from one robot's wall to
-the other's ``s = plate + female`` (10 mm) away, so the rail stack turns both walls out of their
-planes: with a wall's rotational stiffness ``k_t`` per length at the rail's line, ``q_wall = 2 k_t /
-s^2``. A wall strip clamped at the floor and the cover, ``k_t ~ D (4 / a + 4 / b)`` (``D = E t^3 /
-12 (1 - nu^2)`` = 2.9 N m; a = 24.5 mm to the floor's mid-plane, b = 45.8 mm to the top), is about
-720 N m/rad per m, so ``q_wall ~ 1.4e7 N/m per m`` (the front and rear walls, 100 mm apart, stiffen
-it somewhat): an order of magnitude softer than the rails' own FE value below, and also softer
-than the hand formula's. :attr:`SideRailFE.with_walls` is that bracket by FE (each half on a strip
-of its wall, clamped at the floor's mid-plane and the top, front and rear walls left out; mesh at
-least :data:`WALL_SIZE_MM`): 2.0e7 N/m per m. The model uses the rails' own ``q`` (the brief's
-"lips + tongue", an upper bound); the coupling is in fact set by the walls, the next thing to
-mesh as a whole panel.
+The model's values come from the **whole rails on their side walls**
+(:func:`rail_wall_flexibility`, :func:`rail_wall_joint`; ``SideRailFE.wall``). The vertical load
+goes from one robot's wall to the other's ``s = plate + female`` (10 mm) away, so the rail stack
+turns both 2.4 mm walls out of their planes: a hand estimate of a wall strip (``k_t ~ D (4 / a +
+4 / b)``, ``q_wall = 2 k_t / s^2`` ~ 1.4e7 N/m per m) is an order of magnitude softer than the
+rail slice on rigid walls. So each half's whole 80 mm rail is meshed on its side-wall panel
+(``wall_span_mm`` between the front and rear walls' mid-planes, from the floor's mid-plane to the
+top), the wall clamped at the floor and at the front and rear walls (stiffer than the real corners,
+which are 2.4 mm plates too: as :mod:`structure_fem.connector_fe`), its top edge free (the cover is
+screwed to the corner bosses and only rests on the walls), the rail bonded to the wall (it is
+screwed at +-28 mm: bonded is stiffer; assumption). Two staggered robots engage over
+``overlap_mm`` (rail length less half a pitch: 30 mm): the male at its rail's front end, the female
+at its rear end (the other stagger is the mirror image). That overlap's flank is split into
+:data:`SHELL_SEGMENTS` patches (the rail is built in pieces cut there and fragmented with the
+wall, so the mesh conforms to the patches), one vertical load case each: the flexibility matrix
+``C`` per half, symmetric (Maxwell), the halves in series ``C = C_male + C_female``, ``K =
+inv(C)``, ``k_z = 1^T K 1`` and ``k_pitch = a^T K a`` about the overlap's centre
+(:func:`structure_fem.connector_sources.rail_in_pitch` uses these; the slice's ``q`` stays in the
+record as the rigid-wall bound). For a uniform ``q`` the 8 patches give ``(1 - 1/64)`` of the
+continuous ``q l^3 / 12``: 1.6 % low.
+
+Measured (thesis CuBot, ABS 2.2 GPa, 30 mm overlap; 2-core shared machine, 2026-12):
+
+| whole-wall model | h 4 mm | h 3 mm (default) | h 2.5 mm |
+|---|---|---|---|
+| k_z (N/m) | 1.806e6 | 1.782e6 | ~1.77e6 (4 patches: 1.772e6) |
+| k_pitch (N m/rad) | 510 | 505 | (4 patches: 487, against 490 at h 3) |
+| dofs (both halves) / cold s | 67k / 18 s | 115k / 35 s | 147k / 54 s |
+
+Against the rail slice on rigid walls (``q l`` = 1.15e7 N/m, ``q l^3 / 12`` = 859 N m/rad over
+30 mm) the walls make the joint 6.4x softer vertically and 1.7x in pitch (a differential load
+along the rail is carried by the wall in its plane; the mean load turns it out of its plane).
+A 3.4 mm wall: k_z x1.4, k_pitch x1.2 (h 4 mm; tests/structure_fem/test_coupling_fe_rail_key.py).
 
 **Top twist key** (:class:`cubot_cad.twist.TwistKey`, :class:`~cubot_cad.connectors.TopTwistSpec`,
 :class:`~cubot_cad.twist.TwistDriveSpec`; key frame, z up from the upper robot's underside). The
@@ -56,9 +77,10 @@ machine, 2026-12; packaged in ``structure_fem/data/connector_fe.json``):
 | quantity | FE (default mesh) | hand formula (record) |
 |---|---|---|
 | rail q, vertical per metre of engagement (N/m per m) | 3.82e8 (male 1.02e9, female 6.09e8) | 1.375e8 |
-| rail q with the side walls' strips (bracket, not used) | 2.0e7 (male 4.01e7, female 4.00e7) | |
-| rail k_z over the 30 mm staggered overlap (N/m) | 1.15e7 | 4.13e6 |
-| rail k_pitch = q l^3 / 12 over 30 mm (N m/rad) | 859 | 309 |
+| rail k_z over the 30 mm staggered overlap, walls rigid, q l (N/m) | 1.15e7 | 4.13e6 |
+| rail k_pitch over 30 mm, walls rigid, q l^3 / 12 (N m/rad) | 859 | 309 |
+| **rail k_z, whole rails on their side walls (the model's)** (N/m) | **1.78e6** | |
+| **rail k_pitch, whole rails on their side walls (the model's)** (N m/rad) | **505** | |
 | key horizontal, roof on the stem (N/m) | 2.04e6 | 2.72e6 (stem cantilever, bending + shear) |
 | key vertical, pull-out, four arms (N/m) | 5.29e5 | 4.75e5 (4 arms E w t^3 / 4 L^3) |
 | key pitch about its axis (N m/rad) | 14.5 | 46.6 |
@@ -67,8 +89,8 @@ Mesh convergence. Rail (20 mm slice): h 2.0 / 1.5 / 1.2 / 1.0 mm give q 3.924 / 
 3.798e8 (18k / 42k / 68k / 110k dofs; default 1.2 mm, the next step changes it 0.5 %); a 10 mm slice
 is 2 % softer (its free ends). Key: h 2.4 / 2.0 / 1.5 mm give horizontal 2.011 / 2.037 / 2.041e6,
 vertical 5.351 / 5.334 / 5.291e5, pitch 14.48 / 14.54 / 14.46 (default 1.5 mm, 50k dofs). Cold time
-(``python -m structure_fem.connector_sources``, the machine shared): rail 41 s (33 s rails,
-8 s the with-walls bracket; that bracket at h 1.2 mm instead of 2.0 is 2 % softer and 150 s), key 66 s. The FE
+(``python -m structure_fem.connector_sources``, the machine shared): rail ~70 s (33 s the slices,
+~35 s the whole-wall model), key 66 s. The FE
 strip (:func:`strip_cantilever_fe`, 20 x 3 x 2 mm, h 1 mm) is within 1 % of ``E w t^3 / 4 L^3``.
 
 What the FE says about the hand formulas: the rail's "lip" is not a 2 mm thick cantilever 4 mm
@@ -95,15 +117,20 @@ from .connector_fe import FEResult, Material, _kilo, default_cache_dir
 from .errors import InputError
 from .fe_solid import GmshSession, Load, gmsh_tet_mesh, solve_linear_elastic
 
-RAIL_MODEL_VERSION = "side_rail_fe/2"
+RAIL_MODEL_VERSION = "side_rail_fe/3"
 KEY_MODEL_VERSION = "top_twist_fe/1"
 #: Default mesh sizes (mm): the rail's tongue and lips are 4 mm deep, the key's arms 3 mm thick.
 RAIL_SIZE_MM = 1.2
 KEY_SIZE_MM = 1.5
-#: Least mesh size (mm) of the with-walls bracket (its 70 mm wall strip; 2.0 vs 1.5 mm: 0.6 %).
-WALL_SIZE_MM = 2.0
 #: Length of the rail slice (mm).
 RAIL_SLICE_MM = 20.0
+#: Least mesh size (mm) of the whole-wall model (:func:`rail_wall_flexibility`): the 2.4 mm wall
+#: panel, 95 x 70 mm, with the whole rail half on it.
+SHELL_SIZE_MM = 3.0
+#: Load patches the engaged overlap's flank is split into along the rail in the whole-wall model:
+#: the joint's vertical and pitch stiffness come from their flexibility matrix (a uniform q gives
+#: (1 - 1/n^2) of the continuous pitch stiffness: 1.6 % low at 8).
+SHELL_SEGMENTS = 8
 _TOL_MM = 1e-3
 
 
@@ -132,14 +159,21 @@ class SideRailGeometry:
     flank_slope: float
     rail_length_mm: float
     slice_mm: float = RAIL_SLICE_MM
-    #: The robot's side wall the rail is screwed to (for the with-walls bracket, not the default q):
+    #: The robot's side wall the rail is screwed to (the whole-wall model):
     #: its thickness and its extent below (to the floor's mid-plane) and above (to the top) the rail's axis.
     wall_mm: float = 2.4
     wall_below_mm: float = 24.5
     wall_above_mm: float = 45.8
+    #: The side wall's span along the rail between the front and rear walls' mid-planes (mm), and the
+    #: length over which two staggered robots' rails engage (rail length less half a pitch; mm).
+    wall_span_mm: float = 97.6
+    overlap_mm: float = 30.0
 
     @classmethod
-    def from_cubot(cls, robot=None, slice_mm: float = RAIL_SLICE_MM) -> SideRailGeometry:
+    def from_cubot(cls, robot=None, slice_mm: float = RAIL_SLICE_MM, overlap_mm: float | None = None) -> SideRailGeometry:
+        """``overlap_mm``: the staggered rails' engagement (default: rail length less half the body
+        length, i.e. a zero docked gap; the record's gap is passed by
+        :func:`structure_fem.connector_sources.fe_side_rail_for`)."""
         from cubot_cad.cubot import CuBot
 
         r = robot if robot is not None else CuBot()
@@ -149,7 +183,8 @@ class SideRailGeometry:
                    groove_depth_mm=s.groove_depth_mm, groove_mouth_half_mm=s.groove_half_width_mm(0.0),
                    flank_slope=s.flank_slope, rail_length_mm=s.length_mm, slice_mm=slice_mm,
                    wall_mm=r.wall_mm, wall_below_mm=r.rail_z_mm - r.floor_mm / 2,
-                   wall_above_mm=r.body_height_mm - r.rail_z_mm)
+                   wall_above_mm=r.body_height_mm - r.rail_z_mm, wall_span_mm=r.length_mm - r.wall_mm,
+                   overlap_mm=overlap_mm if overlap_mm is not None else s.length_mm - r.length_mm / 2)
 
     def check(self) -> None:
         for n in ("height_mm", "plate_mm", "tongue_mm", "tongue_root_mm", "tongue_tip_mm", "female_mm",
@@ -161,6 +196,12 @@ class SideRailGeometry:
             raise InputError("the rail's groove is deeper than the female half")
         if not self.groove_half_mm(self.groove_depth_mm) < self.height_mm / 2:
             raise InputError("the rail's groove is wider than the rail")
+        if not self.rail_length_mm <= self.wall_span_mm:
+            raise InputError(f"SideRailGeometry.rail_length_mm {self.rail_length_mm:g} is longer than the side wall "
+                             f"({self.wall_span_mm:g} mm between the front and rear walls)")
+        if not 0 < self.overlap_mm <= self.rail_length_mm:
+            raise InputError(f"SideRailGeometry.overlap_mm {self.overlap_mm!r}: staggered rails must overlap, by at "
+                             f"most the rail's {self.rail_length_mm:g} mm")
 
     def groove_half_mm(self, depth_mm: float) -> float:
         return self.groove_mouth_half_mm + depth_mm * self.flank_slope
@@ -178,32 +219,27 @@ class SideRailGeometry:
                 (t, -w0), (t, -h)]
 
 
-def _extruded_section(points_yz, length_mm: float):
-    """Add the (y, z) polygon at x = 0 extruded to x = ``length_mm`` to the open gmsh OCC model."""
+def _extruded_section(points_yz, length_mm: float, x0_mm: float = 0.0):
+    """Add the (y, z) polygon at x = ``x0_mm`` extruded by ``length_mm`` along x to the open gmsh
+    OCC model; returns the new volumes' dimtags."""
     import gmsh
 
     occ = gmsh.model.occ
-    pts = [occ.addPoint(0.0, y, z) for y, z in points_yz]
+    pts = [occ.addPoint(x0_mm, y, z) for y, z in points_yz]
     lines = [occ.addLine(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts))]
     surf = occ.addPlaneSurface([occ.addCurveLoop(lines)])
-    occ.extrude([(2, surf)], length_mm, 0, 0)
+    return [d for d in occ.extrude([(2, surf)], length_mm, 0, 0) if d[0] == 3]
 
 
-def build_rail_half_mesh(geom: SideRailGeometry, half: str, mesh: FEMesh, wall: bool = False):
-    """Mesh one half's slice (metres out); ``wall``: with a strip of the robot's side wall behind it."""
+def build_rail_half_mesh(geom: SideRailGeometry, half: str, mesh: FEMesh):
+    """Mesh one half's slice (metres out)."""
     geom.check()
     sec = geom.male_section() if half == "male" else geom.female_section()
     with GmshSession(f"rail_{half}"):
         import gmsh
 
-        occ = gmsh.model.occ
         _extruded_section(sec, geom.slice_mm)
-        if wall:
-            rail = occ.getEntities(3)
-            w = occ.addBox(0, -geom.wall_mm, -geom.wall_below_mm, geom.slice_mm, geom.wall_mm,
-                           geom.wall_below_mm + geom.wall_above_mm)
-            occ.fuse(rail, [(3, w)])
-        occ.synchronize()
+        gmsh.model.occ.synchronize()
         return gmsh_tet_mesh(mesh.size_mm, size_min_mm=mesh.size_mm / 4, curvature_elements=0)
 
 
@@ -227,39 +263,122 @@ def _back_face(x):
     return np.abs(x[1]) < _TOL_MM * 1e-3
 
 
-def _wall_edges(geom: SideRailGeometry):
-    t = _TOL_MM * 1e-3
-    lo, hi = -geom.wall_below_mm * 1e-3, geom.wall_above_mm * 1e-3
-
-    def sel(x):
-        return (x[1] < 0) & ((np.abs(x[2] - lo) < t) | (np.abs(x[2] - hi) < t))
-    return sel
-
-
-def rail_half_compliance(geom: SideRailGeometry, half: str, mat: Material, mesh: FEMesh,
-                         wall: bool = False) -> dict:
-    """One half of the rail slice, back face clamped (``wall``: a strip of the side wall behind it,
-    clamped at the floor and the top instead), a vertical force on its bearing flank: the flank's
-    mean vertical displacement per newton (m/N) and solve facts."""
-    t0 = time.perf_counter()
-    m = build_rail_half_mesh(geom, half, mesh, wall)
-    t_mesh = time.perf_counter() - t0
+def _bearing_flank(geom: SideRailGeometry, half: str):
+    """(facet selector, load sign) of the flank a half bears on when the lines are pushed apart
+    vertically: the tongue's lower flank (pushed down) on the male, the groove's flank over the
+    tongue's depth on the female (pushed up)."""
     if half == "male":
         p, T = geom.plate_mm, geom.tongue_mm
-        flank = _on_segment((p, geom.tongue_root_mm / 2), (p + T, geom.tongue_tip_mm / 2))
-        f = -1.0
-    else:
-        t, T = geom.female_mm, geom.tongue_mm
-        flank = _on_segment((t, geom.groove_half_mm(0)), (t - T, geom.groove_half_mm(T)))
-        f = 1.0
-    fixed = _wall_edges(geom) if wall else _back_face
-    res = solve_linear_elastic(m, mat.E_pa, mat.poisson, fixed, [Load(flank, (0.0, 0.0, f))], order=mesh.order)
+        return _on_segment((p, geom.tongue_root_mm / 2), (p + T, geom.tongue_tip_mm / 2)), -1.0
+    t, T = geom.female_mm, geom.tongue_mm
+    return _on_segment((t, geom.groove_half_mm(0)), (t - T, geom.groove_half_mm(T))), 1.0
+
+
+def rail_half_compliance(geom: SideRailGeometry, half: str, mat: Material, mesh: FEMesh) -> dict:
+    """One half of the rail slice, back face clamped, a vertical force on its bearing flank: the
+    flank's mean vertical displacement per newton (m/N) and solve facts."""
+    t0 = time.perf_counter()
+    m = build_rail_half_mesh(geom, half, mesh)
+    t_mesh = time.perf_counter() - t0
+    flank, f = _bearing_flank(geom, half)
+    res = solve_linear_elastic(m, mat.E_pa, mat.poisson, _back_face, [Load(flank, (0.0, 0.0, f))], order=mesh.order)
     u = res.mean_displacement(flank, 0)[2] / f
     if not u > 0:
         raise InputError(f"rail {half}: the flank moved against its load ({u:g} m/N)")
     return {"compliance_m_per_n": float(u), "n_dofs": res.n_dofs, "n_elements": res.n_elements,
             "seconds": {"mesh": round(t_mesh, 3), "solve": round(res.seconds, 3),
                         "total": round(time.perf_counter() - t0, 3)}}
+
+
+def build_rail_wall_mesh(geom: SideRailGeometry, half: str, mesh: FEMesh, cuts_mm=()):
+    """Mesh one half's whole rail on its robot's side-wall panel (metres out): the rail over its
+    length centred on x = 0, joined to the wall (``wall_mm`` thick behind the rail's back face,
+    ``wall_span_mm`` along x between the front and rear walls' mid-planes, from the floor's mid-plane
+    to the body's top). The rail is built in pieces split at ``cuts_mm`` (x, mm) and fragmented with
+    the wall, so the mesh is conforming and no facet straddles a cut (the load patches' ends)."""
+    geom.check()
+    sec = geom.male_section() if half == "male" else geom.female_section()
+    L = geom.rail_length_mm
+    xs = sorted({-L / 2, L / 2, *(c for c in cuts_mm if -L / 2 + _TOL_MM < c < L / 2 - _TOL_MM)})
+    with GmshSession(f"rail_wall_{half}"):
+        import gmsh
+
+        occ = gmsh.model.occ
+        pieces = [d for a, b in zip(xs[:-1], xs[1:], strict=True) for d in _extruded_section(sec, b - a, a)]
+        xa = geom.wall_span_mm / 2
+        w = occ.addBox(-xa, -geom.wall_mm, -geom.wall_below_mm, 2 * xa, geom.wall_mm,
+                       geom.wall_below_mm + geom.wall_above_mm)
+        occ.fragment(pieces, [(3, w)])
+        occ.synchronize()
+        return gmsh_tet_mesh(mesh.size_mm, size_min_mm=mesh.size_mm / 4, curvature_elements=0)
+
+
+def _panel_edges(geom: SideRailGeometry):
+    """The side wall's joined edges: the floor (its mid-plane) and the front and rear walls (their
+    mid-planes), clamped; the top edge is free (the cover is screwed to the corner bosses and only
+    rests on the walls' top edges)."""
+    t = _TOL_MM * 1e-3
+    lo, xa = -geom.wall_below_mm * 1e-3, geom.wall_span_mm / 2 * 1e-3
+
+    def sel(x):
+        return (x[1] < 0) & ((np.abs(x[2] - lo) < t) | (np.abs(np.abs(x[0]) - xa) < t))
+    return sel
+
+
+def _in_x(select, x0_mm: float, x1_mm: float):
+    """``select`` restricted to facets whose midpoints have x in [x0, x1) (mm)."""
+    def sel(x):
+        return select(x) & (x[0] >= x0_mm * 1e-3) & (x[0] < x1_mm * 1e-3)
+    return sel
+
+
+def overlap_levers_m(geom: SideRailGeometry, segments: int = SHELL_SEGMENTS) -> np.ndarray:
+    """The load patches' centres along the engaged overlap, from its centre (m)."""
+    return geom.overlap_mm * 1e-3 * ((np.arange(segments) + 0.5) / segments - 0.5)
+
+
+def rail_wall_flexibility(geom: SideRailGeometry, half: str, mat: Material, mesh: FEMesh,
+                          segments: int = SHELL_SEGMENTS) -> dict:
+    """One half's rail on its whole side wall (:func:`build_rail_wall_mesh`, :func:`_panel_edges`
+    clamped), loaded vertically on its bearing flank over the staggered overlap only: the male at its
+    rail's front end, the female at its rear end (the partner half a pitch ahead; the other stagger is
+    the mirror image). The overlap is split into ``segments`` patches along the rail, one load case
+    each: the flexibility matrix ``C[i, j]`` (m/N), the mean vertical displacement of patch i per
+    newton on patch j, symmetrised (Maxwell: equal up to the discretisation), and solve facts."""
+    if not (isinstance(segments, int) and segments >= 2):
+        raise InputError(f"segments must be an integer >= 2 (a pitch needs two patches), got {segments!r}")
+    t0 = time.perf_counter()
+    L, lo = geom.rail_length_mm, geom.overlap_mm
+    x0 = L / 2 - lo if half == "male" else -L / 2
+    cuts = [x0 + lo * j / segments for j in range(segments + 1)]
+    m = build_rail_wall_mesh(geom, half, mesh, cuts)
+    t_mesh = time.perf_counter() - t0
+    flank, f = _bearing_flank(geom, half)
+    cuts[-1] += _TOL_MM  # the overlap's last patch includes the rail's end face's edge
+    patches = [_in_x(flank, cuts[j], cuts[j + 1]) for j in range(segments)]
+    res = solve_linear_elastic(m, mat.E_pa, mat.poisson, _panel_edges(geom),
+                               [Load(p_, (0.0, 0.0, f)) for p_ in patches], order=mesh.order)
+    C = np.array([[res.mean_displacement(patches[i], j)[2] / f for j in range(segments)] for i in range(segments)])
+    asym = float(np.max(np.abs(C - C.T)) / np.max(np.abs(C)))
+    C = 0.5 * (C + C.T)
+    if not (np.all(np.diag(C) > 0) and np.all(np.linalg.eigvalsh(C) > 0)):
+        raise InputError(f"rail {half} on its wall: the flexibility matrix is not positive definite ({C.tolist()})")
+    return {"C_m_per_n": C.tolist(), "asymmetry": asym, "n_dofs": res.n_dofs, "n_elements": res.n_elements,
+            "seconds": {"mesh": round(t_mesh, 3), "solve": round(res.seconds, 3),
+                        "total": round(time.perf_counter() - t0, 3)}}
+
+
+def rail_wall_joint(geom: SideRailGeometry, male: dict, female: dict, segments: int = SHELL_SEGMENTS) -> dict:
+    """The joint of the two halves on their walls: at each patch the halves are in series (the
+    relative vertical displacement is the sum), ``C = C_male + C_female``, ``K = inv(C)``; vertical
+    ``k_z = 1^T K 1``, pitch about the overlap's centre ``k_pitch = a^T K a`` (``a``: the patches'
+    levers, :func:`overlap_levers_m`)."""
+    C = np.asarray(male["C_m_per_n"]) + np.asarray(female["C_m_per_n"])
+    K = np.linalg.inv(C)
+    a = overlap_levers_m(geom, segments)
+    one = np.ones(segments)
+    return {"k_z_n_per_m": float(one @ K @ one), "k_pitch_nm_per_rad": float(a @ K @ a),
+            "levers_m": a.tolist(), "overlap_mm": geom.overlap_mm, "segments": segments}
 
 
 @dataclass
@@ -271,9 +390,10 @@ class SideRailFE(FEResult):
     male_q_n_per_m_per_m: float
     female_q_n_per_m_per_m: float
     rail_stiffness_n_per_m: float  # q times the whole rail length (for comparison with the record)
-    #: Bracket, not used by the model: each half with a strip of its robot's 2.4 mm side wall behind it
-    #: (clamped at the floor and the top; the front and rear walls left out: soft bound), q per metre.
-    with_walls: dict
+    #: The model's values: both halves' whole rails on their side walls, engaged over the staggered
+    #: overlap (:func:`rail_wall_flexibility`, :func:`rail_wall_joint`): ``k_z_n_per_m``,
+    #: ``k_pitch_nm_per_rad``, the overlap and patches, per half the flexibility matrix, dofs, seconds.
+    wall: dict
     provenance: str
     input_hash: str
     inputs: dict
@@ -291,24 +411,23 @@ def rail_input_hash(geom: SideRailGeometry, mat: Material, mesh: FEMesh) -> str:
 
 
 def compute_side_rail(geom: SideRailGeometry, mat: Material, mesh: FEMesh = FEMesh(RAIL_SIZE_MM),
-                      with_walls: bool = True) -> SideRailFE:
-    """Cold FE of the side rail's vertical stiffness per length (no cache): see the module docstring.
-    ``with_walls``: also the bracket with the side walls' strips (:attr:`SideRailFE.with_walls`)."""
+                      wall: bool = True, wall_mesh: FEMesh | None = None) -> SideRailFE:
+    """Cold FE of the side rail (no cache): the rail slice's vertical stiffness per length (walls
+    rigid) and, with ``wall``, the model's values, the whole rails on their side walls
+    (:attr:`SideRailFE.wall`; ``wall_mesh`` default: :data:`SHELL_SIZE_MM` or the rail's mesh if
+    coarser). See the module docstring."""
     t0 = time.perf_counter()
     male = rail_half_compliance(geom, "male", mat, mesh)
     female = rail_half_compliance(geom, "female", mat, mesh)
     ls = geom.slice_mm * 1e-3
     walls: dict = {}
-    if with_walls:
-        wmesh = FEMesh(max(mesh.size_mm, WALL_SIZE_MM), mesh.order, mesh.curvature_elements)
-        wm = rail_half_compliance(geom, "male", mat, wmesh, wall=True)
-        wf = rail_half_compliance(geom, "female", mat, wmesh, wall=True)
-        qwm, qwf = 1.0 / (wm["compliance_m_per_n"] * ls), 1.0 / (wf["compliance_m_per_n"] * ls)
-        walls = {"q_n_per_m_per_m": 1.0 / (1.0 / qwm + 1.0 / qwf), "male_q_n_per_m_per_m": qwm,
-                 "female_q_n_per_m_per_m": qwf, "n_dofs": wm["n_dofs"] + wf["n_dofs"],
-                 "seconds": round(wm["seconds"]["total"] + wf["seconds"]["total"], 3), "mesh_size_mm": wmesh.size_mm,
-                 "note": ("each half with a strip of its side wall (wall_mm thick, floor mid-plane to top) "
-                          "clamped at both ends, front and rear walls left out; not used by the model")}
+    if wall:
+        wmesh = wall_mesh or FEMesh(max(mesh.size_mm, SHELL_SIZE_MM), mesh.order, mesh.curvature_elements)
+        wm = rail_wall_flexibility(geom, "male", mat, wmesh)
+        wf = rail_wall_flexibility(geom, "female", mat, wmesh)
+        walls = rail_wall_joint(geom, wm, wf) | {
+            "male": wm, "female": wf, "mesh_size_mm": wmesh.size_mm, "n_dofs": wm["n_dofs"] + wf["n_dofs"],
+            "seconds": round(wm["seconds"]["total"] + wf["seconds"]["total"], 3)}
     qm = 1.0 / (male["compliance_m_per_n"] * ls)
     qf = 1.0 / (female["compliance_m_per_n"] * ls)
     q = 1.0 / (1.0 / qm + 1.0 / qf)
@@ -317,9 +436,16 @@ def compute_side_rail(geom: SideRailGeometry, mat: Material, mesh: FEMesh = FEMe
             f"{_kilo(male['n_dofs'])} + female {_kilo(female['n_dofs'])}), E={mat.E_pa:.3g} Pa, nu={mat.poisson:g}; "
             f"{geom.slice_mm:g} mm slice of each rail half, back face clamped (side walls rigid: assumption), "
             f"vertical load on the bearing flank (bonded), halves in series: q = {q:.4g} N/m per m")
+    if walls:
+        prov += (f"; the model's values: each half's whole {geom.rail_length_mm:g} mm rail bonded to its "
+                 f"{geom.wall_mm:g} mm side wall ({geom.wall_span_mm:g} x {geom.wall_below_mm + geom.wall_above_mm:g} mm, "
+                 f"clamped at the floor and the front and rear walls, top free; gmsh h={walls['mesh_size_mm']:g} mm, "
+                 f"{_kilo(walls['n_dofs'])} dofs), loaded over the {geom.overlap_mm:g} mm staggered overlap in "
+                 f"{walls['segments']} patches, halves in series: k_z = {walls['k_z_n_per_m']:.4g} N/m, "
+                 f"k_pitch = {walls['k_pitch_nm_per_rad']:.4g} N m/rad")
     return SideRailFE(
         kind="side_rail", q_n_per_m_per_m=q, male_q_n_per_m_per_m=qm, female_q_n_per_m_per_m=qf,
-        rail_stiffness_n_per_m=q * geom.rail_length_mm * 1e-3, with_walls=walls, provenance=prov,
+        rail_stiffness_n_per_m=q * geom.rail_length_mm * 1e-3, wall=walls, provenance=prov,
         input_hash=rail_input_hash(geom, mat, mesh),
         inputs={"geometry": asdict(geom), "material": asdict(mat), "mesh": asdict(mesh), "model": RAIL_MODEL_VERSION,
                 "n_dofs": dofs, "n_elements": male["n_elements"] + female["n_elements"]},
@@ -567,9 +693,11 @@ def _material(material) -> Material:
 
 
 def side_rail_fe(robot=None, material: str | Material = "abs", mesh: FEMesh = FEMesh(RAIL_SIZE_MM),
-                 cache_dir=None, use_cache: bool = True, slice_mm: float = RAIL_SLICE_MM) -> SideRailFE:
-    """FE of a CuBot's side rail (default: the thesis's), cached as ``<cache_dir>/<hash>.json``."""
-    geom = SideRailGeometry.from_cubot(robot, slice_mm)
+                 cache_dir=None, use_cache: bool = True, slice_mm: float = RAIL_SLICE_MM,
+                 overlap_mm: float | None = None) -> SideRailFE:
+    """FE of a CuBot's side rail (default: the thesis's), cached as ``<cache_dir>/<hash>.json``;
+    ``overlap_mm``: the staggered engagement (:meth:`SideRailGeometry.from_cubot`)."""
+    geom = SideRailGeometry.from_cubot(robot, slice_mm, overlap_mm)
     mat = _material(material)
     return _cached(rail_input_hash(geom, mat, mesh), SideRailFE, lambda: compute_side_rail(geom, mat, mesh),
                    cache_dir, use_cache)
