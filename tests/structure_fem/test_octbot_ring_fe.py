@@ -17,12 +17,19 @@ pytest.importorskip("skfem")
 pytest.importorskip("gmsh")
 
 from cubot_cad.octbot import OctBot, RingSpec  # noqa: E402
+from cubot_cad.properties import default_properties  # noqa: E402
+from structure_fem import connector_sources as cs  # noqa: E402
 from structure_fem import octbot_ring_fe as orf  # noqa: E402
 from structure_fem.connector_fe import Material  # noqa: E402
 from structure_fem.errors import InputError  # noqa: E402
 
 ABS = Material.from_cubot_cad("abs")
 COARSE = orf.RingMesh(1.2, 2.0, 3.0)
+
+
+@pytest.fixture(scope="module")
+def octbot():
+    return default_properties().get("octbot")
 
 
 @pytest.fixture(scope="module")
@@ -82,8 +89,9 @@ def test_the_geometry_is_the_cad_and_its_play_the_cad_clearances():
         orf.build_finger_side_mesh(g, orf.RingMesh(0.0))
 
 
-def test_the_coarse_fe_joint(coarse):
-    """Reciprocity and the fingers' symmetry, the hinge and arms, the two sides in series."""
+def test_the_coarse_fe_joint(coarse, octbot):
+    """Reciprocity and the fingers' symmetry, the hinge and arms, the two sides in series, and the
+    coarse mesh within 10 % of the packaged (default mesh) result."""
     g = orf.OctRingGeometry.from_octbot()
     for side in (coarse.finger_side, coarse.ring_side):
         C = np.array(side["flexibility_m_per_n"])
@@ -107,6 +115,9 @@ def test_the_coarse_fe_joint(coarse):
     assert coarse.backlash_rad == pytest.approx(2 * g.clearance_mm / max(arms))
     assert math.isnan(coarse.shear_stiffness_n_per_m)
     assert coarse.provenance.startswith("fe: scikit-fem P2 tetra, gmsh h=1.2 mm in the fingers / 2 mm in the lip")
+    fe, _ = cs.fe_octbot_ring_for(octbot)
+    assert coarse.rotational_stiffness_nm_per_rad == pytest.approx(fe.rotational_stiffness_nm_per_rad, rel=0.10)
+    assert coarse.axial_stiffness_n_per_m == pytest.approx(fe.axial_stiffness_n_per_m, rel=0.10)
 
 
 def test_a_thicker_finger_gives_a_stiffer_joint(coarse):
@@ -115,3 +126,48 @@ def test_a_thicker_finger_gives_a_stiffer_joint(coarse):
     assert thick.finger_side["per_finger_axial_n_per_m"] > 1.2 * coarse.finger_side["per_finger_axial_n_per_m"]
     assert thick.axial_stiffness_n_per_m > 1.2 * coarse.axial_stiffness_n_per_m
     assert thick.rotational_stiffness_nm_per_rad > 1.2 * coarse.rotational_stiffness_nm_per_rad
+
+
+def test_resolve_uses_the_packaged_fe_of_the_ring_by_its_hash(octbot, tmp_path, monkeypatch):
+    robot, notes = cs.resolve(octbot, "fe", cache_dir=tmp_path)
+    ring = robot.connector("ring_capture")
+    fe, where = cs.fe_octbot_ring_for(octbot, cache_dir=tmp_path)
+    assert where.startswith("packaged") and notes["ring_capture"].startswith("fe (result found in the packaged")
+    assert fe.input_hash == orf.input_hash(orf.OctRingGeometry.from_octbot(), ABS, orf.RingMesh())
+    assert ring.provenance.startswith("fe: ") and fe.input_hash[:16] in ring.provenance
+    assert ring.rotational_stiffness_nm_per_rad == fe.rotational_stiffness_nm_per_rad
+    assert ring.axial_stiffness_n_per_m == fe.axial_stiffness_n_per_m
+    rec = octbot.connector("ring_capture")
+    assert ring.shear_stiffness_n_per_m == rec.shear_stiffness_n_per_m  # not modelled: the record's
+    assert ring.gap_m == rec.gap_m and ring.height_m == rec.height_m
+    # the play: the CAD's two clearances in series, and the dead band they give the top finger
+    assert [p.feature for p in ring.play] == ["tension"]
+    assert ring.play_of("tension").play_m == pytest.approx(2 * rec.play_of("tension").play_m)
+    assert ring.backlash_rad == pytest.approx(ring.play_of("tension").play_m / fe.lever_arms_m[0])
+    # the record mode keeps the hand formula
+    assert cs.resolve(octbot, "properties")[0].connector("ring_capture") == rec
+    # an edited record: no FE applies, the hand formula stays and the note says why
+    edited = octbot.with_connector(replace(rec, rotational_stiffness_nm_per_rad=900.0))
+    robot, notes = cs.resolve(edited, "fe", cache_dir=tmp_path)
+    assert robot.connector("ring_capture").provenance.startswith("hand formula")
+    assert "not the parametric OctBot" in notes["ring_capture"]
+    # neither packaged nor cached: the hand formula, and how to compute the FE
+    monkeypatch.setattr(cs, "packaged_fe", lambda: [])
+    robot, notes = cs.resolve(octbot, "fe", cache_dir=tmp_path)
+    assert robot.connector("ring_capture") == rec
+    assert "no FE result for this OctBot ring" in notes["ring_capture"]
+
+
+@pytest.mark.bench
+def test_packaged_cold_solve_and_mesh_refinement(tmp_path, octbot):
+    """The packaged result recomputed cold (~20 s) and one step finer (h 0.6 mm in the fingers, 0.8 mm
+    in the lip: ~1-2 min): under 5 % apart."""
+    fe = orf.octbot_ring_fe(cache_dir=tmp_path)
+    pkg, _ = cs.fe_octbot_ring_for(octbot)
+    assert fe.input_hash == pkg.input_hash and not fe.cache_hit
+    assert fe.rotational_stiffness_nm_per_rad == pytest.approx(pkg.rotational_stiffness_nm_per_rad, rel=1e-6)
+    assert fe.axial_stiffness_n_per_m == pytest.approx(pkg.axial_stiffness_n_per_m, rel=1e-6)
+    fine = orf.compute_octbot_ring(orf.OctRingGeometry.from_octbot(), ABS, orf.RingMesh(0.6, 0.8, 3.0))
+    for f in ("rotational_stiffness_nm_per_rad", "axial_stiffness_n_per_m", "per_finger_axial_n_per_m"):
+        assert getattr(fine, f) == pytest.approx(getattr(fe, f), rel=0.05), f
+        assert getattr(fine, f) < getattr(fe, f)  # refining softens (P2 converges from the stiff side)
