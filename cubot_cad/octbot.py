@@ -33,6 +33,9 @@ MIN_SENSOR_GAP_MM = 40.0
 class RingSpec:
     """Ring and capturer dimensions (mm). Ring frame: x = 0 on the robot's rear face, +x outward."""
 
+    #: The three fingers' angles about the capture axis (0 = +z, turning about +x), deg.
+    FINGER_ANGLES_DEG: ClassVar[tuple[float, float, float]] = (0.0, 120.0, 240.0)
+
     plate_mm: float = 3.0
     lip_mm: float = 3.0
     lip_radius_mm: float = 8.0
@@ -200,13 +203,21 @@ class OctRing(Part):
     support: ClassVar[str] = "the lip overhangs the undercut inside the tube (support in the bore)"
     print_rotation: ClassVar = (((0.0, 1.0, 0.0), -90.0),)
 
+    @property
+    def plate_z_mm(self) -> tuple[float, float]:
+        """z range of the mounting plate (robot frame: the underside at 0, the 30 mm body's top at 30),
+        ``plate_half_mm`` about the ring's centre where the body allows, mm."""
+        s = self.spec
+        zc, h = s.centre_z_mm, s.plate_half_mm
+        return (zc - min(h, zc - 0.5), zc + min(h, 30 - zc))
+
     def build(self):
         from .shapes import X, box, cone, cut_all, cyl
 
         s = self.spec
         zc = s.centre_z_mm
         h = s.plate_half_mm
-        plate = box(0, s.plate_mm, -h, h, zc - min(h, zc - 0.5), zc + min(h, 30 - zc))
+        plate = box(0, s.plate_mm, -h, h, *self.plate_z_mm)
         tube = cyl(s.outer_radius_mm, s.ring_length_mm - s.plate_mm + 0.01, (s.plate_mm - 0.005, 0, zc), X)
         body = plate.fuse(tube).clean()
         bore = cyl(s.undercut_radius_mm, s.undercut_mm + 0.01, (s.plate_mm, 0, zc), X)
@@ -338,6 +349,25 @@ class CapturerHousing(Part):
         """x of the housing's own front face: the retainer plate (``spec.retainer_mm``) takes the rest."""
         return self.length_mm - self.spec.retainer_mm
 
+    @property
+    def chamber_x_mm(self) -> float:
+        """x of the fingers' chambers' bottom (they run from there to the front face), mm."""
+        return self.length_mm - 8.0
+
+    @property
+    def chamber_radii_mm(self) -> tuple[float, float]:
+        """Radial extent of each finger's chamber (from the capture axis): from the bar's inner face
+        fully retracted to its outer face spread, each less/plus the clearance, mm."""
+        s = self.spec
+        return (s.finger_radius_mm - s.finger_mm / 2 - s.finger_travel_mm - s.clearance_mm,
+                s.finger_radius_mm + s.finger_mm / 2 + s.clearance_mm)
+
+    @property
+    def chamber_half_width_mm(self) -> float:
+        """Half width of each finger's chamber: the shoulders plus the clearance, mm."""
+        s = self.spec
+        return s.finger_mm / 2 + s.shoulder_mm + s.clearance_mm
+
     #: Radius of the lightening bore on the axis behind the cam disc, mm.
     carrier_bore_radius_mm: ClassVar[float] = 5.0
 
@@ -416,11 +446,10 @@ class CapturerHousing(Part):
                 for y, z in self.insert_points_mm()]
         # the fingers' chambers behind the retainer: as wide as their shoulders plus the clearance
         xf = self.front_mm
-        r0 = s.finger_radius_mm - s.finger_mm / 2 - s.finger_travel_mm - s.clearance_mm
-        r1 = s.finger_radius_mm + s.finger_mm / 2 + s.clearance_mm
-        a = s.finger_mm / 2 + s.shoulder_mm + s.clearance_mm
-        for ang in (0.0, 120.0, 240.0):
-            slot = box(Lh - 8, xf + 0.1, -a, a, r0, r1)
+        r0, r1 = self.chamber_radii_mm
+        a = self.chamber_half_width_mm
+        for ang in s.FINGER_ANGLES_DEG:
+            slot = box(self.chamber_x_mm, xf + 0.1, -a, a, r0, r1)
             cut.append(rotated(slot, X, ang).translate((0, 0, zc)))
         p = self.CENTRE_POCKET_HALF_MM
         cut.append(box(Lh - 8, xf + 0.1, -p, p, -p + zc, p + zc))
@@ -474,7 +503,7 @@ class FingerRetainer(Part):
         plate = box(xf, Lh, y0, y1, z0, z1)
         r0, r1 = s.retainer_slot_radii_mm
         a = s.finger_mm / 2 + s.clearance_mm
-        cut = [rotated(box(xf - 0.1, Lh + 0.1, -a, a, r0, r1), X, ang).translate((0, 0, zc)) for ang in (0.0, 120.0, 240.0)]
+        cut = [rotated(box(xf - 0.1, Lh + 0.1, -a, a, r0, r1), X, ang).translate((0, 0, zc)) for ang in s.FINGER_ANGLES_DEG]
         rc = clearance_hole_mm(s.retainer_screw_size) / 2
         R = countersunk_head_mm(s.retainer_screw_size)[0] / 2 + s.clearance_mm
         for y, z in s.retainer_screw_points_mm:
@@ -508,7 +537,7 @@ class CamDisc(Part):
         s = self.spec
         x0, x1 = self.x_mm
         disc = cyl(s.cam_radius_mm, x1 - x0, (x0, 0, 0), X)
-        slots = [prism(cam_slot_outline(s, ang), "YZ", x0 - 0.1, x1 - x0 + 0.2) for ang in (0.0, 120.0, 240.0)]
+        slots = [prism(cam_slot_outline(s, ang), "YZ", x0 - 0.1, x1 - x0 + 0.2) for ang in s.FINGER_ANGLES_DEG]
         return cut_all(disc, slots)
 
 
@@ -530,29 +559,45 @@ class Finger(Part):
         return self.housing_mm + s.lip_mm + s.clearance_mm + s.hook_mm
 
     @property
+    def tail_x_mm(self) -> float:
+        """x of the finger's tail (``clearance_mm`` off its chamber's bottom), mm."""
+        return CapturerHousing(spec=self.spec, length_mm=self.housing_mm).chamber_x_mm + self.spec.clearance_mm
+
+    @property
+    def shoulder_end_x_mm(self) -> float:
+        """x of the shoulders' front faces: ``clearance_mm`` short of the retainer's back face, mm."""
+        s = self.spec
+        return self.housing_mm - s.retainer_mm - s.clearance_mm
+
+    @property
+    def hook_top_mm(self) -> float:
+        """Radial reach of the hook (from the capture axis): the lip's bore plus the overlap, mm."""
+        return self.spec.lip_radius_mm + self.spec.hook_overlap_mm
+
+    @property
     def peg_x_mm(self) -> tuple[float, float]:
         """x range of the peg: from 0.5 mm short of the disc's back face to the finger's tail."""
         s = self.spec
         d0, _ = CapturerHousing(spec=s, length_mm=self.housing_mm).cam_disc_x_mm
-        return (d0 + 0.5, self.housing_mm - 8 + s.clearance_mm)
+        return (d0 + 0.5, self.tail_x_mm)
 
     def build(self):
         from .shapes import X, box, cyl, prism
 
         s = self.spec
         r, a = s.finger_radius_mm, s.finger_mm / 2
-        x0 = self.housing_mm - 8 + s.clearance_mm
+        x0 = self.tail_x_mm
         xt = self.tip_x_mm
         # the bar's outer face is rounded to the lip's bore less the clearance: spread, its corners
         # (at sqrt((r + a)^2 + a^2)) would otherwise reach into the lip at small clearances
         bar = box(x0, xt, -a, a, r - a, r + a).intersect(
             cyl(s.lip_radius_mm - s.clearance_mm, xt - x0 + 2.0, (x0 - 1.0, 0, 0), X))
-        zt = s.lip_radius_mm + s.hook_overlap_mm
+        zt = self.hook_top_mm
         hook = box(xt - s.hook_mm, xt, -a, a, r - a, zt)
         p0, p1 = self.peg_x_mm
         peg = cyl(s.peg_radius_mm, p1 - p0 + 0.5, (p0, 0, r), X)  # 0.5 mm into the bar: one body
         # the shoulders: the tail widened by shoulder_mm each side up to the clearance short of the retainer
-        xs = self.housing_mm - s.retainer_mm - s.clearance_mm
+        xs = self.shoulder_end_x_mm
         shoulder = box(x0, xs, -a - s.shoulder_mm, a + s.shoulder_mm, r - a, r + a).intersect(
             cyl(s.lip_radius_mm - s.clearance_mm, xs - x0 + 2.0, (x0 - 1.0, 0, 0), X))
         body = bar.fuse(hook, peg, shoulder).clean()
@@ -714,7 +759,7 @@ class OctBot(Robot):
                Placed(CamDisc(spec=rs, housing_mm=self.housing_mm), location((h, 0, rs.centre_z_mm), 0, deg),
                       "cam_disc")]
         finger = Finger(spec=rs, housing_mm=self.housing_mm)
-        for ang in (0.0, 120.0, 240.0):
+        for ang in rs.FINGER_ANGLES_DEG:
             loc = location((h, 0, rs.centre_z_mm)) * location((0, 0, 0), 0, ang) * location((0, 0, shift))
             out.append(Placed(finger, loc, "finger"))
         out.append(Placed(FingerRetainer(spec=rs, housing_mm=self.housing_mm), location((h, 0, 0)), "retainer"))

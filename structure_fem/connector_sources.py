@@ -21,6 +21,11 @@ play per feature from the CAD's clearances. This module puts the finite-element 
   it rebuilds the parametric :class:`cubot_cad.platform.TestPlatform` whose hand formula gives the
   record's ``bolt`` values and looks its FE up by hash; :func:`resolve` then puts the FE's stiffness
   and the play of the CAD's ISO 273 clearance hole (:func:`with_fe_bolt`) in the record's place.
+* :func:`fe_octbot_ring_for` does the same for the OctBot's ring coupling (:mod:`structure_fem.octbot_ring_fe`):
+  it rebuilds the parametric :class:`cubot_cad.octbot.OctBot` whose hand formula gives the record's
+  ``ring_capture`` values and looks its FE up by hash; :func:`resolve` then puts the FE's axial and
+  pitch stiffness and the play of the CAD's two clearances in series (hooks to the lip, the fingers'
+  shoulders to the retainer: :func:`with_fe_ring`) in the record's place.
 * :func:`resolve` returns the robot record the model then uses: the FE values (axial, pitch
   and shear stiffness) with ``provenance = "fe: <mesh, element, solver, cache key>"``, the play
   unchanged (the FE is of the bonded, play-free load path; the play is the CAD's), and a note
@@ -257,6 +262,82 @@ def fe_platform_bolt_for(robot: RobotProperties, cache_dir=None, compute: bool =
     return pb.platform_bolt_fe(plat, mat, mesh, cache_dir=cache_dir), "computed now (cached)"
 
 
+def octbot_for_record(robot: RobotProperties):
+    """The parametric :class:`cubot_cad.octbot.OctBot` whose hand formula reproduces the record's
+    ``ring_capture`` coupling exactly (its print clearance is the record's tension play), or
+    ``(None, why not)``."""
+    kinds = {c.kind: c for c in robot.connectors}
+    if "ring_capture" not in kinds:
+        return None, "the record has no ring_capture coupling (only the OctBot's ring is modelled by FE)"
+    rec = kinds["ring_capture"]
+    t = rec.play_of("tension")
+    if t is None:
+        return None, "the record's ring_capture has no tension play: not the CAD's hand formula"
+    from cubot_cad.octbot import OctBot
+
+    try:
+        bot = OctBot(clearance_mm=round(t.play_m * 1e3, 9))
+        hand = bot.connector_properties(robot.youngs_modulus_pa, {"ring_capture": rec.gap_m * 1e3})[0]
+    except Exception as exc:  # noqa: BLE001 - a clearance outside what the CAD can build
+        return None, f"the CAD cannot rebuild the record's ring coupling ({exc})"
+    if not all(_same(getattr(hand, f), getattr(rec, f)) for f in
+               ("rotational_stiffness_nm_per_rad", "axial_stiffness_n_per_m", "backlash_rad", "height_m")):
+        return None, ("the record's ring_capture values are not the parametric OctBot's hand formula at its "
+                      "clearance and modulus (edited or another geometry): no FE result applies")
+    return bot, ""
+
+
+def fe_octbot_ring_for(robot: RobotProperties, cache_dir=None, compute: bool = False, packaged: bool = True):
+    """``(OctRingFE or None, where it came from or why not)`` for the record's ring coupling (the
+    OctBot's fingers + retainer and ring, :mod:`structure_fem.octbot_ring_fe`): the parametric OctBot
+    that reproduces the record (:func:`octbot_for_record`), the FE material of the record's modulus,
+    the default mesh; looked up by the hash of geometry + material + mesh."""
+    from . import connector_fe as cfe
+    from . import octbot_ring_fe as orf
+
+    bot, why = octbot_for_record(robot)
+    if bot is None:
+        return None, why
+    try:
+        mat = cfe.Material.from_cubot_cad(robot.material.lower())
+    except Exception as exc:  # noqa: BLE001
+        return None, f"material {robot.material!r} has no FE material ({exc})"
+    if not _same(mat.E_pa, robot.youngs_modulus_pa):
+        return None, (f"the record's modulus {robot.youngs_modulus_pa:.4g} Pa is not the FE material's "
+                      f"{mat.E_pa:.4g} Pa")
+    mesh = orf.RingMesh()
+    key = orf.input_hash(orf.OctRingGeometry.from_octbot(bot), mat, mesh)
+    fe, where = lookup_fe(key, cache_dir, orf.OctRingFE, packaged)
+    if fe is not None:
+        return fe, where
+    if not compute:
+        return None, (f"no FE result for this OctBot ring (key {key[:12]}) in the cache or the package: "
+                      "`python -m structure_fem.connector_sources` computes it (under a minute cold)")
+    return orf.octbot_ring_fe(bot, mat, mesh, cache_dir=cache_dir), "computed now (cached)"
+
+
+def _play_text(play) -> str:
+    return ", ".join(f"{p.feature} {p.play_m * 1e3:.3g} mm ({p.axis}, {p.sense}; {p.cad_feature})" for p in play)
+
+
+def with_fe_ring(rec: ConnectorProperties, fe) -> ConnectorProperties:
+    """The record's ring coupling with the FE's stiffness (pitch about the ring's bottom edge, axial;
+    no shear: the record's none stays) and the play from the CAD's two clearances in series
+    (``fe.play``: hook to lip and finger shoulders to retainer, one tension play) with its pitch dead band."""
+    from cubot_cad.properties import FeaturePlay
+
+    play = tuple(FeaturePlay(**p) for p in fe.play)
+    return replace(rec, rotational_stiffness_nm_per_rad=fe.rotational_stiffness_nm_per_rad,
+                   axial_stiffness_n_per_m=fe.axial_stiffness_n_per_m,
+                   shear_stiffness_n_per_m=fe.shear_stiffness_n_per_m
+                   if math.isfinite(fe.shear_stiffness_n_per_m) else rec.shear_stiffness_n_per_m,
+                   backlash_rad=fe.backlash_rad, play=play,
+                   provenance=(f"{fe_provenance(fe)}; hand formula {rec.rotational_stiffness_nm_per_rad:.4g} N m/rad, "
+                               f"{rec.axial_stiffness_n_per_m:.4g} N/m; play: {_play_text(play)}, rotational "
+                               f"{fe.backlash_rad * 1e3:.3g} mrad (the play over the top finger's "
+                               f"{fe.lever_arms_m[0] * 1e3:.3g} mm arm)"))
+
+
 def with_fe_bolt(rec: ConnectorProperties, fe) -> ConnectorProperties:
     """The record's bolt with the FE's stiffness (joint alone: pitch, axial, vertical shear) and the
     play from the CAD's clearance hole (``fe.play``; no rotational dead band: head and nut clamp)."""
@@ -268,9 +349,8 @@ def with_fe_bolt(rec: ConnectorProperties, fe) -> ConnectorProperties:
                    shear_stiffness_n_per_m=fe.shear_stiffness_n_per_m
                    if math.isfinite(fe.shear_stiffness_n_per_m) else None,
                    backlash_rad=fe.backlash_rad, play=play,
-                   provenance=(f"{fe_provenance(fe)}; play: "
-                               + ", ".join(f"{p.feature} {p.play_m * 1e3:.3g} mm ({p.axis}, {p.sense}; {p.cad_feature})"
-                                           for p in play) + f", rotational {fe.backlash_rad:g} rad (head and nut clamp)"))
+                   provenance=(f"{fe_provenance(fe)}; play: {_play_text(play)}, rotational {fe.backlash_rad:g} rad "
+                               "(head and nut clamp)"))
 
 
 def fe_provenance(fe) -> str:
@@ -333,6 +413,14 @@ def resolve(robot: RobotProperties, source: str = "fe", cache_dir=None,
                 notes["bolt"] = f"fe (result found in the {why_bolt}): lap joint + bolt, play from the ISO 273 hole"
             else:
                 notes["bolt"] = f"record (hand formula): {why_bolt}"
+        if any(c.kind == "ring_capture" for c in robot.connectors):
+            ring, why_ring = fe_octbot_ring_for(record, cache_dir)
+            if ring is not None:
+                robot = _swap(robot, with_fe_ring(robot.connector("ring_capture"), ring))
+                notes["ring_capture"] = (f"fe (result found in the {why_ring}): fingers + retainer and ring, hooks on "
+                                         "the lip in series; play from the CAD's two clearances")
+            else:
+                notes["ring_capture"] = f"record (hand formula): {why_ring}"
     if measured is not None:
         for c in load_measured(measured, robot):
             robot = _swap(robot, c)
@@ -592,10 +680,11 @@ def fit_moment_rotation(points, where: str) -> tuple[float, float, int]:
 
 #: The FE results packaged per robot record (:func:`write_packaged_fe`).
 PACKAGED_FINDERS = {"cubot": ("fe_front_rear_for", "fe_side_rail_for", "fe_top_twist_for"),
-                    "cube-robot": ("fe_front_rear_for",), "platform": ("fe_platform_bolt_for",)}
+                    "cube-robot": ("fe_front_rear_for",), "platform": ("fe_platform_bolt_for",),
+                    "octbot": ("fe_octbot_ring_for",)}
 #: Each finder's cold time when last computed (s, this machine): only to start the longest first.
 _EXPECTED_COLD_S = {"fe_front_rear_for": 120.0, "fe_top_twist_for": 66.0, "fe_side_rail_for": 70.0,
-                    "fe_platform_bolt_for": 48.0}
+                    "fe_platform_bolt_for": 48.0, "fe_octbot_ring_for": 20.0}
 
 
 def _packaged_task(name: str, finder: str, cache_dir, packaged: bool):
@@ -667,7 +756,7 @@ def compute_packaged_fe(cache_dir=None, workers: int = 2, packaged: bool = True,
 def write_packaged_fe(cache_dir=None, workers: int = 2) -> Path:
     """Write ``structure_fem/data/connector_fe.json``: exactly the FE results that apply to the
     packaged records (:data:`PACKAGED_FINDERS`: the CuBot's front-rear, side rail and twist key,
-    the Cube Robot's front-rear, the test platform's bolt), from the cache, computing any that is missing
+    the Cube Robot's front-rear, the test platform's bolt, the OctBot's ring), from the cache, computing any that is missing
     (:func:`compute_packaged_fe`, ``workers`` processes). Entries of geometries no packaged record
     has any more are dropped. The file is replaced atomically, only once every result exists."""
     results, _wall, _per = compute_packaged_fe(cache_dir, workers)

@@ -54,8 +54,8 @@ def test_an_edited_record_gets_no_fe_and_says_why():
     assert "not the parametric CuBot" in notes["front_rear"]
     other = default_properties().get("octbot")
     _, notes = cs.resolve(other)
-    assert notes["ring_capture"] == "record"
-    assert "no FE model of this robot" in cs.fe_key(other)[1]
+    assert notes["ring_capture"].startswith("fe (result found in the")  # its ring: octbot_ring_fe
+    assert "no FE model of this robot" in cs.fe_key(other)[1]  # no front-rear coupling to model
 
 
 def test_the_fe_is_looked_up_by_its_geometry_and_material_hash(tmp_path, packaged_fe):
@@ -178,9 +178,9 @@ def test_the_packaged_fe_set_is_gathered_in_the_finders_order_from_one_or_two_pr
         results, wall, per_task = cs.compute_packaged_fe(tmp_path, workers=workers,
                                                          progress=lambda d, n, label, done=done: done.append((d, n, label)))
         assert [fe.input_hash for fe in results] == keys
-        assert [d for d, _n, _l in done] == [1, 2, 3, 4, 5] and {n for _d, n, _l in done} == {5}
+        assert [d for d, _n, _l in done] == [1, 2, 3, 4, 5, 6] and {n for _d, n, _l in done} == {6}
         assert set(per_task) == {"cubot:front_rear", "cubot:side_rail", "cubot:top_twist", "cube-robot:front_rear",
-                                 "platform:platform_bolt"}
+                                 "platform:platform_bolt", "octbot:octbot_ring"}
         assert wall >= 0 and not any(tmp_path.iterdir())  # nothing computed, nothing cached
 
 

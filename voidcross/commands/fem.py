@@ -415,21 +415,32 @@ def run_design(args) -> int:
 
 
 def run_connectors(args) -> int:
-    from structure_fem.connector_sources import fe_front_rear_for, fe_platform_bolt_for
+    from structure_fem.connector_sources import (
+        fe_front_rear_for,
+        fe_octbot_ring_for,
+        fe_platform_bolt_for,
+    )
     from structure_fem.runs import load_file
 
     props = load_file(_opts(args))
     robot = props.get(args.robot)
-    bolt = any(c.kind == "bolt" for c in robot.connectors)  # the test platform's lap joint
-    fe, where = (fe_platform_bolt_for if bolt else fe_front_rear_for)(robot, compute=True)
+    kinds = {c.kind for c in robot.connectors}
+    # the test platform's lap joint, the OctBot's ring, else the front-rear coupling
+    finder = (fe_platform_bolt_for if "bolt" in kinds else fe_octbot_ring_for if "ring_capture" in kinds
+              else fe_front_rear_for)
+    fe, where = finder(robot, compute=True)
     if fe is None:
         raise InputError(f"no FE model applies to robot {robot.name!r}: {where}")
+    import math
+
+    shear = fe.shear_stiffness_n_per_m if math.isfinite(fe.shear_stiffness_n_per_m) else None  # the ring: not modelled
     payload = {"robot": robot.name, "kind": fe.kind, "rotational_stiffness_nm_per_rad": fe.rotational_stiffness_nm_per_rad,
-               "axial_stiffness_n_per_m": fe.axial_stiffness_n_per_m, "shear_stiffness_n_per_m": fe.shear_stiffness_n_per_m,
+               "axial_stiffness_n_per_m": fe.axial_stiffness_n_per_m, "shear_stiffness_n_per_m": shear,
                "provenance": fe.provenance, "input_hash": fe.input_hash, "from": where, "timings_s": fe.timings_s}
     emit(args, payload, f"{robot.name} {fe.kind}: {fe.rotational_stiffness_nm_per_rad:.4g} N m/rad, "
-                        f"{fe.axial_stiffness_n_per_m:.3g} N/m axial, {fe.shear_stiffness_n_per_m:.3g} N/m shear "
-                        f"({where}; key {fe.input_hash[:16]})\n  {fe.provenance}")
+                        f"{fe.axial_stiffness_n_per_m:.3g} N/m axial, "
+                        + (f"{shear:.3g} N/m shear" if shear is not None else "shear not modelled")
+                        + f" ({where}; key {fe.input_hash[:16]})\n  {fe.provenance}")
     return 0
 
 
@@ -596,7 +607,7 @@ def register(sub, common) -> None:
     _add_inputs(d)
     d.set_defaults(func=run_design)
 
-    k = fs.add_parser("connectors", parents=[common], help="FE of the record's front-rear coupling (cached)",
+    k = fs.add_parser("connectors", parents=[common], help="FE of the record's along-the-line coupling (cached)",
                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     _add_inputs(k)
     k.set_defaults(func=run_connectors)
