@@ -233,17 +233,11 @@ def platform_for_record(robot: RobotProperties):
     return plat, ""
 
 
-def fe_platform_bolt_for(robot: RobotProperties, cache_dir=None, compute: bool = False, packaged: bool = True):
-    """``(PlatformBoltFE or None, where it came from or why not)`` for the record's bolt (the test
-    platform's lap joint, :mod:`structure_fem.platform_bolt_fe`): the parametric platform that
-    reproduces the record (:func:`platform_for_record`), the FE material of the record's modulus,
-    the default mesh; looked up by the hash of geometry + material + mesh."""
+def _fe_material(robot: RobotProperties):
+    """``(Material or None, why not)``: the FE material of the record's material, if its modulus is
+    the record's (an FE result at another modulus does not apply)."""
     from . import connector_fe as cfe
-    from . import platform_bolt_fe as pb
 
-    plat, why = platform_for_record(robot)
-    if plat is None:
-        return None, why
     try:
         mat = cfe.Material.from_cubot_cad(robot.material.lower())
     except Exception as exc:  # noqa: BLE001
@@ -251,6 +245,22 @@ def fe_platform_bolt_for(robot: RobotProperties, cache_dir=None, compute: bool =
     if not _same(mat.E_pa, robot.youngs_modulus_pa):
         return None, (f"the record's modulus {robot.youngs_modulus_pa:.4g} Pa is not the FE material's "
                       f"{mat.E_pa:.4g} Pa")
+    return mat, ""
+
+
+def fe_platform_bolt_for(robot: RobotProperties, cache_dir=None, compute: bool = False, packaged: bool = True):
+    """``(PlatformBoltFE or None, where it came from or why not)`` for the record's bolt (the test
+    platform's lap joint, :mod:`structure_fem.platform_bolt_fe`): the parametric platform that
+    reproduces the record (:func:`platform_for_record`), the FE material of the record's modulus,
+    the default mesh; looked up by the hash of geometry + material + mesh."""
+    from . import platform_bolt_fe as pb
+
+    plat, why = platform_for_record(robot)
+    if plat is None:
+        return None, why
+    mat, why = _fe_material(robot)
+    if mat is None:
+        return None, why
     mesh = pb.PlatformMesh()
     key = pb.input_hash(pb.PlatformBoltGeometry.from_platform(plat), mat, mesh)
     fe, where = lookup_fe(key, cache_dir, pb.PlatformBoltFE, packaged)
@@ -292,19 +302,14 @@ def fe_octbot_ring_for(robot: RobotProperties, cache_dir=None, compute: bool = F
     OctBot's fingers + retainer and ring, :mod:`structure_fem.octbot_ring_fe`): the parametric OctBot
     that reproduces the record (:func:`octbot_for_record`), the FE material of the record's modulus,
     the default mesh; looked up by the hash of geometry + material + mesh."""
-    from . import connector_fe as cfe
     from . import octbot_ring_fe as orf
 
     bot, why = octbot_for_record(robot)
     if bot is None:
         return None, why
-    try:
-        mat = cfe.Material.from_cubot_cad(robot.material.lower())
-    except Exception as exc:  # noqa: BLE001
-        return None, f"material {robot.material!r} has no FE material ({exc})"
-    if not _same(mat.E_pa, robot.youngs_modulus_pa):
-        return None, (f"the record's modulus {robot.youngs_modulus_pa:.4g} Pa is not the FE material's "
-                      f"{mat.E_pa:.4g} Pa")
+    mat, why = _fe_material(robot)
+    if mat is None:
+        return None, why
     mesh = orf.RingMesh()
     key = orf.input_hash(orf.OctRingGeometry.from_octbot(bot), mat, mesh)
     fe, where = lookup_fe(key, cache_dir, orf.OctRingFE, packaged)
