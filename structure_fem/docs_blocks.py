@@ -145,19 +145,42 @@ def _dynamics() -> str:
         total = None if tip is None or a is None else tip + a
         rows.append(f"| {lv.name} | {lv.max_span_widths} | {mm(tip)} | {mm(a)} | {mm(total)} | {d.clearance_mm:g} |")
     entries = packaged()
+    record = _record_keys(entries)
     by: dict[str, list] = {}
     for e in entries:
         by.setdefault(e.get("structure", "?"), []).append(e)
-    tr = ["| structure | bodies | width (robot widths): allowance (mm) |", "|---|---|---|"]
+    tr = ["| structure | bodies | the record's inputs: width (robot widths): allowance (mm) | the range's input "
+          "variants: width: allowance (mm) |", "|---|---|---|---|"]
     for name in sorted(by):
-        es = sorted(by[name], key=lambda e: e["width"])
+        es = sorted(by[name], key=lambda e: (e["width"], e["allowance_m"]))
         bodies = ", ".join(sorted({"flexible" if e.get("flexible") else "rigid" for e in es}))
-        tr.append(f"| {name} | {bodies} | " + ", ".join(f"{e['width']:g}: {1e3 * e['allowance_m']:.2f}" for e in es)
-                  + " |")
+        own = ", ".join(f"{e['width']:g}: {1e3 * e['allowance_m']:.2f}" for e in es if e["key"] in record) or "-"
+        var = ", ".join(f"{e['width']:g}: {1e3 * e['allowance_m']:.2f}" for e in es if e["key"] not in record) or "-"
+        tr.append(f"| {name} | {bodies} | {own} | {var} |")
     return (f"From the packaged `limits.json` (`{d.robot}`, {d.clearance_mm:g} mm clearance) and the "
-            f"packaged transients (`structure_fem/data/{PACKAGED.name}`, {len(entries)} integrations):\n\n"
+            f"packaged transients (`structure_fem/data/{PACKAGED.name}`, {len(entries)} integrations, "
+            f"{sum(e['key'] in record for e in entries)} of them with the record's own inputs):\n\n"
             + "\n".join(rows) + "\n\nThe transients integrated (the larger overshoot of the support loss and the "
-            "docking push, per width):\n\n" + "\n".join(tr) + "\n")
+            "docking push, per width; the variants are the margins table's range: print clearance, printed "
+            "modulus, solid parts):\n\n" + "\n".join(tr) + "\n")
+
+
+def _record_keys(entries: list[dict]) -> set[str]:
+    """The keys among ``entries`` whose inputs are the packaged record's own (not a range variant's):
+    the key recomputed from the default table's inputs for the entry's structure, width and rows."""
+    from structure_fem.dynamics_cache import inputs_of, key_of
+    from structure_fem.runs import RunOptions, make_inputs
+    from structure_fem.study import candidate_structures
+
+    inp, _ = make_inputs(RunOptions())
+    structs = {s.name: s for s in candidate_structures(inp.connectors, narrow=True)}
+    out = set()
+    for e in entries:
+        s = structs.get(e.get("structure"))
+        if s is not None and key_of(inputs_of(s, e["width"], e["rows"], inp.robot, inp.connectors, e["flexible"],
+                                              e["damping_ratio"], ("support_loss", "docking"))) == e["key"]:
+            out.add(e["key"])
+    return out
 
 
 BLOCKS = {"thresholds": _thresholds, "dynamics": _dynamics, "connectors": _connectors, "calibration": _calibration,

@@ -27,7 +27,7 @@ import hashlib
 import json
 import math
 import os
-from dataclasses import asdict
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from cubot_cad.jsonrecord import to_jsonable
@@ -39,6 +39,13 @@ PACKAGED = Path(__file__).parent / "data" / "dynamic_allowance.json"
 
 #: Keys looked up or computed in this process (what :func:`write_packaged` ships).
 _USED: dict[str, dict] = {}
+#: Entries computed by :func:`prefill`'s worker processes (found here when the user cache could
+#: not be written: a read-only home).
+_PREFILLED: dict[str, dict] = {}
+#: Keys whose transient did not converge in a :func:`prefill` worker, with why.
+_FAILED: dict[str, str] = {}
+#: Environment variable: worker processes :func:`prefill` may start (default: the CPU count).
+WORKERS_ENV = "VOIDCROSS_TRANSIENT_WORKERS"
 _PACKAGED: dict[str, dict] | None = None
 
 
@@ -124,10 +131,14 @@ def allowance_m(structure, width, robot, damping_ratio: float, *, rows: int, con
     events = EVENTS if events is None else tuple(events)
     inputs = inputs_of(structure, width, rows, robot, connectors, flexible, damping_ratio, events)
     key = key_of(inputs)
-    hit = lookup(key, cache_dir)
+    hit = lookup(key, cache_dir) or _PREFILLED.get(key)
     if hit is not None:
         _USED[key] = hit
         return float(hit["allowance_m"])
+    if key in _FAILED and compute is None:  # a prefill worker met this failure already
+        from .errors import SolverFailure
+
+        raise SolverFailure(_FAILED[key])
     fn = compute or dynamic_allowance_m
     a = float(fn(structure, width, robot, damping_ratio, events=events, connectors=connectors, flexible=flexible,
                  static=static))
@@ -137,6 +148,105 @@ def allowance_m(structure, width, robot, damping_ratio: float, *, rows: int, con
     store(entry, cache_dir)
     _USED[key] = entry
     return a
+
+
+@dataclass(frozen=True)
+class Job:
+    """One launch transient :func:`prefill` may compute (the arguments of :func:`allowance_m`)."""
+
+    structure: object
+    width: int
+    rows: int
+    robot: object
+    connectors: object
+    flexible: bool
+    damping_ratio: float
+
+    def key(self) -> str:
+        from .dynamics import EVENTS
+
+        return key_of(inputs_of(self.structure, self.width, self.rows, self.robot, self.connectors, self.flexible,
+                                self.damping_ratio, EVENTS))
+
+
+def _run_job(job: Job, cache_dir) -> tuple[str, dict | None, str]:
+    """Worker: (key, entry, "") or (key, None, why) when the transient does not converge (the
+    caller's own :func:`allowance_m` call meets the failure again and counts it as failing)."""
+    from .errors import SolverFailure
+
+    try:
+        allowance_m(job.structure, job.width, job.robot, job.damping_ratio, rows=job.rows,
+                    connectors=job.connectors, flexible=job.flexible, cache_dir=cache_dir)
+    except SolverFailure as exc:
+        return job.key(), None, str(exc)
+    key = job.key()
+    return key, _USED[key], ""
+
+
+def workers_default() -> int:
+    """:data:`WORKERS_ENV` when set (an integer >= 1), else the machine's CPU count."""
+    v = os.environ.get(WORKERS_ENV, "").strip()
+    if v:
+        if not v.isdigit() or int(v) < 1:
+            from .errors import InputError
+
+            raise InputError(f"{WORKERS_ENV} must be an integer >= 1, got {v!r}")
+        return int(v)
+    return os.cpu_count() or 1
+
+
+def _context():
+    """Fork where there is fork: the workers start at once with everything imported, and a
+    caller's script needs no ``if __name__ == "__main__"`` guard (spawn re-imports it). The
+    static model and the transients are single-threaded (exudyn's solvers run here without
+    its task manager; ``tests/structure_fem/test_dynamics_cache.py`` integrates in forked
+    workers and compares with this process)."""
+    import multiprocessing as mp
+
+    return mp.get_context("fork" if "fork" in mp.get_all_start_methods() else "spawn")
+
+
+def prefill(jobs, workers: int | None = None, cache_dir: Path | None = None, progress=None,
+            label: str = "launch transients") -> int:
+    """Compute the transients of ``jobs`` that no cache holds yet, ``workers`` at a time in
+    separate processes (each integration is single-threaded; default :func:`workers_default`),
+    so the callers' own :func:`allowance_m` calls afterwards are cache hits. Returns how many
+    were integrated. One missing job, or ``workers == 1``, runs here. ``progress(iterable, label,
+    total)`` wraps the completions (a progress bar). What a worker computed is written to the
+    user cache by the worker and kept in this process too (for :func:`write_packaged`, and when
+    the cache is read-only); a transient that does not converge is remembered, so the caller's
+    own call fails at once (and counts it as failing) instead of integrating it again."""
+    import concurrent.futures as cf
+
+    workers = workers_default() if workers is None else workers
+    todo: dict[str, Job] = {}
+    for j in jobs:
+        k = j.key()
+        if k not in todo and lookup(k, cache_dir) is None and k not in _PREFILLED and k not in _FAILED:
+            todo[k] = j
+    if not todo:
+        return 0
+    # the longest first (the cost grows with the robots in the structure), so the workers end together
+    order = sorted(todo.values(), key=lambda j: -j.rows * getattr(j.structure, "lines", 1)
+                   * getattr(j.structure, "layers", 1))
+
+    def keep(res: tuple[str, dict | None, str]) -> None:
+        key, entry, why = res
+        if entry is None:
+            _FAILED[key] = why
+        else:
+            _PREFILLED[key] = _USED[key] = entry
+
+    wrap = progress or (lambda it, _label, _total: it)
+    if workers <= 1 or len(order) == 1:
+        for j in wrap(order, label, len(order)):
+            keep(_run_job(j, cache_dir))
+        return len(order)
+    with cf.ProcessPoolExecutor(max_workers=min(workers, len(order)), mp_context=_context()) as ex:
+        futs = [ex.submit(_run_job, j, cache_dir) for j in order]
+        for f in wrap(cf.as_completed(futs), label, len(futs)):
+            keep(f.result())
+    return len(order)
 
 
 def used() -> list[dict]:

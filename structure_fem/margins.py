@@ -115,32 +115,43 @@ def chain_decomposition(res: StaticResult) -> dict:
             "elastic_mm": 1e3 * elastic, "sum_mm": 1e3 * total, "joints": joints}
 
 
-def _passes(s, w: int, inp: StudyInputs) -> bool | None:
-    try:
-        _rows, res = min_rows(s, w, inp)
-    except SolverFailure:
-        return None
-    return res.tip_deflection_m <= inp.clearance_m
+def variant_curve(s, inp: StudyInputs, start: int, max_steps: int = 12) -> tuple[Curve, str]:
+    """The static threshold of ``s`` under ``inp`` as a :class:`~structure_fem.study.Curve` (its
+    tips and rows at the widths tried), stepping from ``start`` (the tip grows with the width; a
+    width that does not converge counts as failing, as in the threshold search) and a note,
+    non-empty when the search stopped after ``max_steps`` steps."""
+    c = Curve(s)
+    clear = inp.clearance_m * 1e3
+
+    def passes(w: int) -> bool:
+        try:
+            return c.tip_mm[c.index(w, inp)] <= clear
+        except SolverFailure:
+            return False
+
+    w, note = max(start, 1), ""
+    if passes(w):
+        for _ in range(max_steps):
+            if w + 1 > inp.max_width or not passes(w + 1):
+                break
+            w += 1
+        else:
+            note = f"at least {w} (search stopped after {max_steps} steps)"
+    else:
+        for _ in range(max_steps):
+            w -= 1
+            if w < 1 or passes(w):
+                break
+        else:
+            note = f"at most {w} (search stopped after {max_steps} steps)"
+    c.threshold = max(w, 0)
+    return c, note
 
 
 def threshold_from(s, inp: StudyInputs, start: int, max_steps: int = 12) -> tuple[int, str]:
-    """The threshold of ``s`` under ``inp``, stepping from ``start`` (a non-converged width counts
-    as failing); ``(threshold, note)``, the note non-empty when the search stopped early."""
-    w = max(start, 1)
-    ok = _passes(s, w, inp)
-    if ok:
-        for _ in range(max_steps):
-            if w + 1 > inp.max_width or not _passes(s, w + 1, inp):
-                return w, ""
-            w += 1
-        return w, f"at least {w} (search stopped after {max_steps} steps)"
-    for _ in range(max_steps):
-        w -= 1
-        if w < 1:
-            return 0, ""
-        if _passes(s, w, inp):
-            return w, ""
-    return w, f"at most {w} (search stopped after {max_steps} steps)"
+    """The static threshold of ``s`` under ``inp``, stepping from ``start`` (:func:`variant_curve`)."""
+    c, note = variant_curve(s, inp, start, max_steps)
+    return c.threshold, note
 
 
 def _variants(inp: StudyInputs) -> list[tuple[str, StudyInputs]]:
@@ -167,8 +178,51 @@ def _variants(inp: StudyInputs) -> list[tuple[str, StudyInputs]]:
     return out
 
 
-def structure_report(d: Derivation, c: Curve, ranges: bool = True) -> dict:
-    """Threshold, margins, decomposition, bodies and range of one structure."""
+def variant_ranges(d: Derivation, names: list[str] | None = None, progress=None) -> dict[str, list[dict]]:
+    """Per structure (those named, with a threshold >= 1), its threshold under each plausible
+    input variant (:func:`_variants`) by the derivation's own criterion: with ``inputs.dynamic``
+    static tip + launch allowance <= clearance (the variants' transients at their static
+    thresholds integrated side by side first, :func:`structure_fem.study.apply_dynamic`), else the
+    static tip. Each entry: ``inputs``, ``threshold``, with the dynamic criterion
+    ``static_threshold`` and ``dynamic_allowance_mm`` at the threshold, and a ``note`` when a
+    search stopped early or a solve did not converge."""
+    from .study import apply_dynamic
+
+    inp = d.inputs
+    work = []  # (structure name, variant name, variant inputs, curve, note)
+    for c in d.curves:
+        if (names is not None and c.structure.name not in names) or c.threshold < 1:
+            continue
+        for vname, v in _variants(inp):
+            vc, note = variant_curve(c.structure, v, c.threshold)
+            work.append((c.structure.name, vname, v, vc, note))
+    if inp.dynamic:  # one pool for every variant of every structure; each variant's own inputs
+        from .dynamics_cache import Job, prefill
+
+        jobs = [Job(vc.structure, vc.threshold, vc.rows[vc.widths.index(vc.threshold)], v.robot, v.connectors,
+                    v.flexible, v.damping_ratio) for _n, _vn, v, vc, _note in work
+                if vc.threshold >= 1 and vc.threshold in vc.widths]
+        prefill(jobs, progress=progress, label="launch transients (ranges)")
+        for _n, _vn, v, vc, _note in work:
+            apply_dynamic([vc], v, workers=1)
+    out: dict[str, list[dict]] = {}
+    for name, vname, v, vc, note in work:
+        e = {"inputs": vname, "threshold": vc.threshold}
+        if inp.dynamic:
+            e["static_threshold"] = vc.static_threshold
+            a = vc.allowance_mm.get(vc.threshold)
+            e["dynamic_allowance_mm"] = None if a is None else round(a, 4)
+        fails = "; ".join(f"{f.what} at width {f.width} did not converge, {f.counted_as}" for f in vc.failures)
+        note = "; ".join(x for x in (note, fails) if x)
+        if note:
+            e["note"] = note
+        out.setdefault(name, []).append(e)
+    return out
+
+
+def structure_report(d: Derivation, c: Curve, ranges: bool | list[dict] = True) -> dict:
+    """Threshold, margins, decomposition, bodies and range of one structure (``ranges``: compute
+    the range, or the structure's entries of :func:`variant_ranges` already computed)."""
     inp = d.inputs
     s = c.structure
     clear = inp.clearance_m * 1e3
@@ -220,20 +274,21 @@ def structure_report(d: Derivation, c: Curve, ranges: bool = True) -> dict:
     except SolverFailure as exc:
         out["decomposition"] = {"converged": False, "reason": str(exc)}
     if ranges:
-        rng = []
-        for name, v in _variants(inp):
-            t, note = threshold_from(s, v, w)
-            rng.append({"inputs": name, "threshold": t, **({"note": note} if note else {})})
+        rng = ranges if isinstance(ranges, list) else variant_ranges(d, [s.name]).get(s.name, [])
         ts = [r["threshold"] for r in rng] + [w]
         out["range"] = {"min": min(ts), "max": max(ts), "variants": rng,
-                        "criterion": "variants: static tip <= clearance (their launch transients are not integrated)",
+                        "criterion": ("variants: static tip + their own launch allowance <= clearance (the table's)"
+                                      if inp.dynamic else "variants: static tip <= clearance (the table's)"),
                         "record_print_clearance_mm": round(record_clearance_mm(inp), 4)}
     return out
 
 
-def report(d: Derivation, ranges: bool = True, names: list[str] | None = None) -> list[dict]:
-    """:func:`structure_report` of every curve (or those named)."""
-    return [structure_report(d, c, ranges) for c in d.curves if names is None or c.structure.name in names]
+def report(d: Derivation, ranges: bool = True, names: list[str] | None = None, progress=None) -> list[dict]:
+    """:func:`structure_report` of every curve (or those named); the ranges of all of them at once
+    (:func:`variant_ranges`: their launch transients side by side)."""
+    curves = [c for c in d.curves if names is None or c.structure.name in names]
+    rng = variant_ranges(d, [c.structure.name for c in curves], progress) if ranges else {}
+    return [structure_report(d, c, rng.get(c.structure.name, []) if ranges else False) for c in curves]
 
 
 def markdown(rep: list[dict]) -> str:

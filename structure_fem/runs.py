@@ -177,14 +177,14 @@ def not_converged(failures: Iterable[tuple[str, NonConvergence]]) -> dict:
     return {"not_converged": items, "warnings": lines}
 
 
-def structure_reports(d: Derivation, ranges: bool = True) -> list[dict]:
+def structure_reports(d: Derivation, ranges: bool = True, progress: Progress | None = None) -> list[dict]:
     """Per structure: threshold, margin, what sets it, bodies, range (:mod:`structure_fem.margins`);
     the range only for the thesis-shaped structures (the narrow arches are reported, not banded)."""
     from .margins import report
 
     narrow = [c.structure.name for c in d.curves
               if c.structure.kind == "arch" and c.structure.lines < 2 * c.structure.layers]
-    wide = report(d, ranges, [c.structure.name for c in d.curves if c.structure.name not in narrow])
+    wide = report(d, ranges, [c.structure.name for c in d.curves if c.structure.name not in narrow], progress)
     return wide + report(d, False, narrow)
 
 
@@ -212,7 +212,7 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
     tapered = tapered_arches(d, progress=progress)
     alt_failures = _alt_thresholds(inp, info, opts) if alternative else []
     info["body_bending"] = body_bending(d)
-    structures = structure_reports(d, ranges)
+    structures = structure_reports(d, ranges, progress)
     out.mkdir(parents=True, exist_ok=True)
     files: dict[str, str] = {}
     if plots and tapered:

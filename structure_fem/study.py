@@ -259,7 +259,8 @@ class Curve:
 DENSE_WIDTHS = 8
 
 
-def structure_curve(s: Structure, inp: StudyInputs, extra: int = 1, tick: Callable[[], None] | None = None) -> Curve:
+def structure_curve(s: Structure, inp: StudyInputs, extra: int = 1, tick: Callable[[], None] | None = None,
+                    dynamic: bool | None = None) -> Curve:
     """The threshold of ``s``: widths 1..8 one by one, then doubling, then bisection.
 
     The tip deflection at the longest cantilever grows with the void width (more
@@ -270,6 +271,9 @@ def structure_curve(s: Structure, inp: StudyInputs, extra: int = 1, tick: Callab
     A width whose solve does not converge counts as failing (the last resort: the solver
     settings of :mod:`structure_fem.model` converge on every shipped record); it is kept
     in ``Curve.failures`` and reported, never dropped silently.
+
+    ``dynamic`` (default ``inp.dynamic``): step down to the dynamic threshold here; ``False``
+    leaves the static one (:func:`apply_dynamic` steps many curves down at once).
     """
     c = Curve(s)
     clear = inp.clearance_m * 1e3
@@ -311,10 +315,33 @@ def structure_curve(s: Structure, inp: StudyInputs, extra: int = 1, tick: Callab
                                                  "for the plots)", "left out of the plots", str(exc)))
                 break
     c.threshold = lo
-    if inp.dynamic:
-        c.static_threshold = lo
-        c.threshold = dynamic_threshold(c, inp)
+    if inp.dynamic if dynamic is None else dynamic:
+        apply_dynamic([c], inp)
     return c
+
+
+def apply_dynamic(curves: list[Curve], inp: StudyInputs, progress: Callable[[Iterable, str, int], Iterable] | None
+                  = None, workers: int | None = None) -> None:
+    """Turn the curves' static thresholds into dynamic ones (:func:`dynamic_threshold`). The
+    launch transients at every curve's static threshold are integrated first, side by side in
+    ``workers`` processes (:func:`structure_fem.dynamics_cache.prefill`); the step-down then
+    finds them cached. A width whose static solve fails here is left to the step-down (which
+    counts it as failing)."""
+    from .dynamics_cache import Job, prefill
+
+    jobs = []
+    for c in curves:
+        if c.threshold >= 1:
+            try:
+                i = c.index(c.threshold, inp)
+            except SolverFailure:
+                continue
+            jobs.append(Job(c.structure, c.threshold, c.rows[i], inp.robot, inp.connectors, inp.flexible,
+                            inp.damping_ratio))
+    prefill(jobs, workers, progress=progress)
+    for c in curves:
+        c.static_threshold = c.threshold
+        c.threshold = dynamic_threshold(c, inp)
 
 
 def dynamic_threshold(c: Curve, inp: StudyInputs) -> int:
@@ -386,7 +413,9 @@ def derive(inp: StudyInputs, progress: Callable[[Iterable, str, int], Iterable] 
     for s in structs:
         s.check_connectors(inp.connectors, inp.robot.name)
     it = structs if progress is None else progress(structs, "fem structures", len(structs))
-    curves = [structure_curve(s, inp, extra) for s in it]
+    curves = [structure_curve(s, inp, extra, dynamic=False) for s in it]
+    if inp.dynamic:
+        apply_dynamic(curves, inp, progress)
     levels = []
     covered = 0
     for c in curves:

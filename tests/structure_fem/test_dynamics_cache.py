@@ -84,15 +84,85 @@ def test_the_packaged_allowances_are_the_current_models(tmp_path):
     packaged = json.loads(dc.PACKAGED.read_text())
     line = [e for e in packaged if e["structure"] == "line"]
     assert line, "no packaged line allowance: regenerate with python -m structure_fem.runs"
-    e = min(line, key=lambda e: e["width"])
     inp, _ = make_inputs(RunOptions())
     s = Structure("line")
-    key = dc.key_of(dc.inputs_of(s, e["width"], e["rows"], inp.robot, inp.connectors, e["flexible"],
-                                 e["damping_ratio"], ("support_loss", "docking")))
-    assert key == e["key"], "the packaged allowance is not for the default record: regenerate"
+    # the record's own (the others are the margins' range variants: other play, modulus, mass)
+    own = [e for e in line if dc.key_of(dc.inputs_of(s, e["width"], e["rows"], inp.robot, inp.connectors,
+                                                     e["flexible"], e["damping_ratio"], ("support_loss", "docking")))
+           == e["key"]]
+    assert own, "no packaged line allowance is for the default record: regenerate"
+    e = min(own, key=lambda e: e["width"])
     from structure_fem.model import Config, solve
 
     static = solve(Config(s, e["rows"], int(e["width"]), int(e["width"])), inp.robot, inp.connectors, e["flexible"])
     fresh = dynamic_allowance_m(s, int(e["width"]), inp.robot, e["damping_ratio"], connectors=inp.connectors,
                                 flexible=e["flexible"], static=static)
     assert fresh == pytest.approx(e["allowance_m"], rel=1e-6, abs=1e-9)
+
+
+def _jobs(robot, conn, widths=(1, 2)):
+    from structure_fem.study import StudyInputs, min_rows
+
+    inp = StudyInputs(robot, conn, clearance_m=0.015, max_width=4)
+    out = []
+    for w in widths:
+        rows, _res = min_rows(LINE, w, inp)
+        out.append(dc.Job(LINE, w, rows, robot, conn, True, 0.02))
+    return out
+
+
+def test_prefill_integrates_in_workers_what_a_direct_integration_gives(setup, monkeypatch):
+    """Two transients integrated side by side in worker processes are then served from the
+    cache (no integration here) and equal, bit for bit, the same integration in this process."""
+    from structure_fem import dynamics
+
+    robot, conn, cache = setup
+    jobs = _jobs(robot, conn)
+    assert dc.prefill(jobs, workers=2, cache_dir=cache) == 2
+    assert dc.prefill(jobs, workers=2, cache_dir=cache) == 0  # nothing left to do
+    direct = [dynamics.dynamic_allowance_m(j.structure, j.width, robot, 0.02, connectors=conn, flexible=True)
+              for j in jobs]
+
+    def boom(*a, **k):
+        raise AssertionError("integrated what prefill computed")
+
+    monkeypatch.setattr(dynamics, "dynamic_allowance_m", boom)
+    got = [dc.allowance_m(j.structure, j.width, robot, 0.02, rows=j.rows, connectors=conn, flexible=True,
+                          cache_dir=cache) for j in jobs]
+    assert got == direct and all(a > 0 for a in got)
+    assert {e["key"] for e in dc.used()} >= {j.key() for j in jobs}  # shipped by write_packaged
+
+
+def test_a_transient_that_fails_in_a_worker_fails_at_once_for_the_caller(setup, monkeypatch):
+    """A worker's SolverFailure is remembered: the caller's own call raises it (and counts the
+    width as failing) without integrating it a second time."""
+    from structure_fem import dynamics
+    from structure_fem.errors import SolverFailure
+
+    robot, conn, cache = setup
+    jobs = _jobs(replace(robot, mass_kg=robot.mass_kg * 1.37), conn, (3, 4))
+    calls = []
+
+    def fails(*a, **k):
+        calls.append(1)
+        raise SolverFailure("test: no convergence")
+
+    monkeypatch.setattr(dynamics, "dynamic_allowance_m", fails)  # the forked workers inherit it
+    assert dc.prefill(jobs, workers=2, cache_dir=cache) == 2
+    assert calls == []  # it ran in the workers
+    for j in jobs:
+        with pytest.raises(SolverFailure, match="no convergence"):
+            dc.allowance_m(j.structure, j.width, j.robot, 0.02, rows=j.rows, connectors=conn, flexible=True,
+                           cache_dir=cache)
+    assert calls == []
+    assert not list(cache.glob("*.json"))
+
+
+def test_bad_worker_counts_are_refused(monkeypatch):
+    from structure_fem.errors import InputError
+
+    monkeypatch.setenv(dc.WORKERS_ENV, "0")
+    with pytest.raises(InputError, match="VOIDCROSS_TRANSIENT_WORKERS.*'0'"):
+        dc.workers_default()
+    monkeypatch.setenv(dc.WORKERS_ENV, "3")
+    assert dc.workers_default() == 3

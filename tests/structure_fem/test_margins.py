@@ -64,10 +64,24 @@ def test_the_range_brackets_the_threshold_and_goes_the_physical_way(line_report)
     assert by["printed modulus x0.7"] <= t
     # the record is at its parts' recorded infill: solid parts (heavier) never widen the threshold,
     # and the worst case takes all three
-    assert by[margins.SOLID_VARIANT] <= line_report["static_threshold"]  # the variants' criterion is static
+    assert by[margins.SOLID_VARIANT] <= t
     worst = f"print clearance 0.4 mm, printed modulus x0.7 and {margins.SOLID_VARIANT}"
     assert by[worst] == rg["min"] <= by["print clearance 0.4 mm and printed modulus x0.7"]
     assert rg["record_print_clearance_mm"] == pytest.approx(0.2)
+
+
+def test_the_range_uses_the_tables_criterion_with_each_variants_own_transients(line_report):
+    """Issue 12, items 4 and 6: a variant's threshold is static tip + its own launch allowance
+    <= clearance, as the table's: never above its static threshold, and at it the margin holds."""
+    rg = line_report["range"]
+    assert "launch allowance" in rg["criterion"]
+    for v in rg["variants"]:
+        assert v["threshold"] <= v["static_threshold"]
+        if v["threshold"] >= 1:
+            assert v["dynamic_allowance_mm"] > 0
+    # the loose print's play makes the structure fall farther through its joints: a larger overshoot
+    by = {v["inputs"]: v for v in rg["variants"]}
+    assert by["print clearance 0.4 mm"]["dynamic_allowance_mm"] > by["print clearance 0.1 mm"]["dynamic_allowance_mm"]
 
 
 def test_the_infill_variant_is_the_records_solid_mass_and_moves_with_it():
