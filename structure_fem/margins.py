@@ -43,7 +43,7 @@ from dataclasses import replace
 
 from .errors import SolverFailure
 from .model import Config, StaticResult, solve
-from .study import Curve, Derivation, StudyInputs, min_rows
+from .study import Curve, Derivation, StudyInputs
 
 #: Printed (FDM) ABS/PLA is less stiff than the datasheet's bulk value the record and the FE use:
 #: 0.7 is the low end quoted for 100 % infill FDM parts (assumption; the print settings'
@@ -206,7 +206,7 @@ def variant_ranges(d: Derivation, names: list[str] | None = None, progress=None)
         for _n, _vn, v, vc, _note in work:
             apply_dynamic([vc], v, workers=1)
     out: dict[str, list[dict]] = {}
-    for name, vname, v, vc, note in work:
+    for name, vname, _v, vc, note in work:
         e = {"inputs": vname, "threshold": vc.threshold}
         if inp.dynamic:
             e["static_threshold"] = vc.static_threshold
