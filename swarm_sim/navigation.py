@@ -39,7 +39,7 @@ import numpy as np
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
-from .dijkstra import csr_pair, dijkstra_start
+from .dijkstra import dijkstra_start, grid_graph
 from .field_cache import FieldCache, contents_key
 from .grid import HAVE_NUMBA
 from .world import World
@@ -352,20 +352,19 @@ class CostField:
         return float(g.cx[c]), float(g.cy[c])
 
 
-_CSR: dict = {}
+_GRAPHS: dict = {}
 
 
-def _csr(grid: NavGrid) -> tuple:
-    """The grid graph's CSR and transposed CSR (as scipy's dijkstra sees them) with the edge lengths
-    in each one's entry order (built once per grid)."""
-    hit = _CSR.get(id(grid))
+def _graph(grid: NavGrid) -> tuple:
+    """The grid graph as the compiled search reads it (:func:`swarm_sim.dijkstra.grid_graph`:
+    per-cell direction masks, direction offsets and lengths), built once per grid."""
+    hit = _GRAPHS.get(id(grid))
     if hit is not None and hit[0] is grid:
         return hit[1]
-    ip, ix, od, ipt, ixt, odt = csr_pair(grid.ei, grid.ej, grid.nx * grid.ny)
-    out = (ip, ix, grid.ew[od].copy(), ipt, ixt, grid.ew[odt].copy())
-    if len(_CSR) > 8:
-        _CSR.clear()
-    _CSR[id(grid)] = (grid, out)
+    out = grid_graph(grid.ei, grid.ej, grid.ew, grid.nx, grid.ny)
+    if len(_GRAPHS) > 8:
+        _GRAPHS.clear()
+    _GRAPHS[id(grid)] = (grid, out)
     return out
 
 
@@ -399,7 +398,7 @@ def cost_field(world: World, goal_x: float, goal_y: float, blocked=None, blocked
     extra_j, extra_w = _goal_edges(grid, gc, closed)
     if HAVE_NUMBA:  # the same search compiled (swarm_sim.dijkstra: scipy's answer bit for bit), lazily
         cost, pred, hd, hi = dijkstra_start(n, gc)
-        search = _Search((gc, closed, *_csr(grid), BLOCKED, extra_j, extra_w), hd, hi)
+        search = _Search((gc, closed, *_graph(grid), BLOCKED, extra_j, extra_w), hd, hi)
         f = CostField(grid, float(goal_x), float(goal_y), gc, cost, pred, closed, search)
         if not EAGER:
             f.settle(0.0)

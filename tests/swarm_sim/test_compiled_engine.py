@@ -223,7 +223,7 @@ def test_the_cheap_norm_comparison_answers_as_the_exact_norm_does():
     assert _hypot_below(3.0, 4.0, 5.0 + 1e-15) and not _hypot_below(3.0, 4.0, 5.0)
 
 
-@pytest.mark.parametrize("preset,n,w", [("case-d", 9, 3), ("case-a", 8, 2)])
+@pytest.mark.parametrize("preset,n,w", [("case-d", 9, 3), ("case-a", 8, 2), ("large-void", 70, 8)])
 def test_compiled_dijkstra_is_scipys_bit_for_bit(preset, n, w):
     """navigation.cost_field's compiled search (swarm_sim.dijkstra) against scipy's on random
     closed cells: the same distances and the same predecessors (ties included)."""
@@ -236,7 +236,7 @@ def test_compiled_dijkstra_is_scipys_bit_for_bit(preset, n, w):
 
     g = N.nav_grid(World.from_params(resolve_params(preset, n, w, "thesis")))
     cells = g.nx * g.ny
-    ip, ix, ew_c, ipt, ixt, ew_t = N._csr(g)
+    graph = N._graph(g)
     rng = np.random.default_rng(11)
     for trial in range(8):
         closed = ~g.free.copy()
@@ -248,7 +248,7 @@ def test_compiled_dijkstra_is_scipys_bit_for_bit(preset, n, w):
         want_cost, want_pred = dijkstra(csr_matrix((wt, (g.ei, g.ej)), shape=(cells, cells)), directed=False,
                                         indices=gc, return_predecessors=True, limit=N.BLOCKED)
         closed[gc] = False
-        cost, pred = dijkstra_grid(cells, gc, closed, ip, ix, ew_c, ipt, ixt, ew_t, N.BLOCKED, np.zeros(0, np.int64),
+        cost, pred = dijkstra_grid(cells, gc, closed, *graph, N.BLOCKED, np.zeros(0, np.int64),
                                    np.zeros(0))
         assert np.array_equal(cost, want_cost) and np.array_equal(pred, want_pred.astype(np.int64))
         assert np.isfinite(cost).sum() > 0.3 * (~closed).sum()  # the search really spread
@@ -322,3 +322,28 @@ def test_random_soak_draws_are_the_same():
         except InputError:  # a draw the simulator refuses (the soak skips it too)
             continue
         ran += 1
+
+
+@pytest.mark.parametrize("nx,ny", [(2, 3), (1, 4), (5, 1), (4, 4)])
+def test_the_grid_graph_holds_every_edge_both_ways_and_nothing_else(nx, ny):
+    """swarm_sim.dijkstra.grid_graph on narrow grids (where index offsets alone would be
+    ambiguous): cell a has direction k exactly when an edge joins a to a + off[k]."""
+    from swarm_sim.dijkstra import DIRECTIONS, grid_graph
+
+    rng = np.random.default_rng(nx * 10 + ny)
+    pairs = []
+    for j in range(ny):
+        for i in range(nx):
+            for di, dj in ((1, 0), (0, 1), (1, 1), (-1, 1)):
+                if 0 <= i + di < nx and j + dj < ny and rng.random() < 0.7:
+                    pairs.append((j * nx + i, (j + dj) * nx + i + di, math.hypot(di, dj) * 2.5))
+    ei, ej, ew = (np.array(v) for v in zip(*pairs, strict=True)) if pairs else (np.zeros(0, int),) * 2 + (np.zeros(0),)
+    mask, off, dw = grid_graph(ei.astype(np.int64), ej.astype(np.int64), ew.astype(float), nx, ny)
+    edges = {(a, b) for a, b, _ in pairs} | {(b, a) for a, b, _ in pairs}
+    got = {(a, a + int(off[k])) for a in range(nx * ny) for k in range(8) if mask[a] >> k & 1}
+    assert got == edges
+    for k, (di, dj) in enumerate(DIRECTIONS):
+        if any(mask >> k & 1):
+            assert dw[k] == math.hypot(di, dj) * 2.5
+    with pytest.raises(ValueError, match="differ in length"):
+        grid_graph(np.array([0, 1]), np.array([1, 2]), np.array([1.0, 1.5]), 3, 1)
