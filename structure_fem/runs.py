@@ -76,6 +76,10 @@ class RunOptions:
     dynamic: bool = True
     #: First-mode damping ratio of the launch transients (an assumption: dynamics.DEFAULT_DAMPING_RATIO).
     damping_ratio: float = 0.02
+    #: ``fem study``: the sensitivity grid by the table's criterion too (each grid point's launch
+    #: transients, all of them side by side; ~72 more integrations, tens of minutes cold); False
+    #: (the default): the grid by the static tip, labelled so.
+    sensitivity_dynamic: bool = False
 
     def __post_init__(self) -> None:
         if self.connectors not in CONNECTOR_SOURCES:
@@ -316,29 +320,54 @@ SENSITIVITY = (
 )
 
 
+def sensitivity_dynamic(opts: RunOptions) -> bool:
+    """The sensitivity grid uses the table's dynamic criterion (``--sensitivity-dynamic`` with the
+    dynamic criterion), else the static tip."""
+    return opts.dynamic and opts.sensitivity_dynamic
+
+
 def sensitivity(opts: RunOptions, progress: Progress | None = None, grid=SENSITIVITY,
                 failures: list[tuple[str, NonConvergence]] | None = None) -> list[dict]:
     """Thresholds vs connector stiffness, backlash, robot mass and clearance (one factor at a time;
-    identical input sets are derived once; static criterion: a cold launch transient per grid
-    point would make the study hours long, and the grid shows how the inputs move the statics). ``not_converged`` lists the widths whose solve did not
-    converge (counted as failing); with ``failures`` their details are appended there, with the
-    grid point as context."""
+    identical input sets are derived once). By default by the static tip: the grid shows how the
+    inputs move the statics, and its launch transients (one per structure and grid point, 1-120 s
+    each) would make a cold study tens of minutes long. With :func:`sensitivity_dynamic` by the
+    table's criterion: every grid point's static thresholds first, then all their transients side
+    by side (:func:`structure_fem.dynamics_cache.prefill`), then each steps down
+    (:func:`structure_fem.study.apply_dynamic`). ``not_converged`` lists the widths whose solve
+    did not converge (counted as failing); with ``failures`` their details are appended there,
+    with the grid point as context."""
+    from .dynamics_cache import Job, prefill
+    from .study import apply_dynamic, levels_of
+
     props = load_file(opts)
     cal = calibrate(props, opts.calibration_backlash)
+    dyn = sensitivity_dynamic(opts)
     jobs = [(p, u, v) for p, u, vals in grid for v in vals]
     it = jobs if progress is None else progress(jobs, "fem sensitivity", len(jobs))
-    rows, cache = [], {}
+    points, cache = [], {}
     for p, u, v in it:
         o = {"connector stiffness": replace(opts, stiffness_scale=opts.stiffness_scale * v),
              "backlash": replace(opts, backlash_scale=opts.backlash_scale * v),
              "robot mass": replace(opts, mass_scale=opts.mass_scale * v),
              "clearance": replace(opts, clearance_mm=v, caster=False)}[p]
-        inp, _ = make_inputs(replace(o, dynamic=False), props, cal)
+        inp, _ = make_inputs(replace(o, dynamic=dyn), props, cal)
         key = (inp.connectors, inp.robot, inp.clearance_m)
         fresh = key not in cache
         if fresh:
-            cache[key] = derive(inp, extra=0)
-        d = cache[key]
+            cache[key] = (derive(replace(inp, dynamic=False), extra=0), inp)
+        points.append((p, u, v, key, fresh))
+    if dyn:  # every grid point's transients at its static thresholds at once, then the step-down
+        prefill([Job(c.structure, c.threshold, c.rows[c.widths.index(c.threshold)], inp.robot, inp.connectors,
+                     inp.flexible, inp.damping_ratio)
+                 for d, inp in cache.values() for c in d.curves if c.threshold >= 1 and c.threshold in c.widths],
+                progress=progress, label="launch transients (sensitivity)")
+        for d, inp in cache.values():
+            apply_dynamic(d.curves, inp, workers=1)
+            d.inputs, d.levels = inp, levels_of(d.curves)
+    rows = []
+    for p, u, v, key, fresh in points:
+        d = cache[key][0]
         th = d.thresholds()
         failing = [f"{f.structure} {f.width}" for f in d.failures if f.counted_as == "counted as failing"]
         rows.append({"parameter": p, "unit": u, "value": v, "line": th["line"], "two_line": th["two_line"],
@@ -380,7 +409,8 @@ def run_study(out: str | Path, opts: RunOptions = RunOptions(), progress: Progre
     return {"thresholds": {k: th[k] for k in ("line", "two_line", "arch", "arch_levels")},
             "thresholds_per_structure": th["per_structure"], "clearance_mm": inp.clearance_m * 1e3,
             "criterion": "static tip + launch allowance <= clearance" if inp.dynamic else "static tip <= clearance",
-            "sensitivity_criterion": "static tip <= clearance",
+            "sensitivity_criterion": ("static tip + launch allowance <= clearance" if sensitivity_dynamic(opts)
+                                      else "static tip <= clearance"),
             "calibration": info, "sensitivity": sens, "files": files,
             **not_converged([("", f) for f in d.failures] + sens_failures)}
 

@@ -416,6 +416,12 @@ def derive(inp: StudyInputs, progress: Callable[[Iterable, str, int], Iterable] 
     curves = [structure_curve(s, inp, extra, dynamic=False) for s in it]
     if inp.dynamic:
         apply_dynamic(curves, inp, progress)
+    return Derivation(inp, curves, levels_of(curves))
+
+
+def levels_of(curves: list[Curve]) -> list[tuple[Structure, int, int]]:
+    """The bands: each structure (in the cheaper-first order of the curves) that crosses wider than
+    every one before it, from one past the previous band to its threshold."""
     levels = []
     covered = 0
     for c in curves:
@@ -424,7 +430,7 @@ def derive(inp: StudyInputs, progress: Callable[[Iterable, str, int], Iterable] 
         if c.threshold > covered:
             levels.append((c.structure, covered + 1, c.threshold))
             covered = c.threshold
-    return Derivation(inp, curves, levels)
+    return levels
 
 
 def limits_from(d: Derivation, source: str = "derived") -> StructureLimits:

@@ -164,6 +164,30 @@ def test_study_writes_plots_and_a_sensitivity_that_moves_the_right_way(tmp_path,
     assert rows[("clearance", 5.0)]["max_span"] < rows[("clearance", 20.0)]["max_span"]
 
 
+def test_the_sensitivity_grid_by_the_tables_criterion_on_request(tmp_path, test_properties, monkeypatch):
+    """`fem study --sensitivity-dynamic`: each grid point's thresholds by static tip + its own launch
+    allowance (never wider than by the static tip alone, and narrower somewhere: the allowance is
+    real), the JSON says which criterion; the default grid stays static and says so."""
+    from structure_fem.runs import RunOptions, sensitivity
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    grid = (("clearance", "mm", (7.5, 15.0)), ("robot mass", "x record", (2.0,)))
+    opts = RunOptions(properties=str(test_properties), max_width=6)
+    static = sensitivity(opts, grid=grid)
+    dyn = sensitivity(replace(opts, sensitivity_dynamic=True), grid=grid)
+    assert [(r["parameter"], r["value"]) for r in dyn] == [(r["parameter"], r["value"]) for r in static]
+    for a, b in zip(dyn, static, strict=True):
+        for kind in ("line", "two_line", "arch", "max_span"):
+            assert a[kind] <= b[kind], (a, b)
+    assert any(a[k] < b[k] for a, b in zip(dyn, static, strict=True) for k in ("line", "two_line", "arch"))
+    assert list((tmp_path / "cache" / "voidcross" / "dynamics").glob("*.json"))  # cached for the next study
+    from voidcross.cli import build_parser
+    from voidcross.commands.fem import _opts
+
+    assert _opts(build_parser().parse_args(["fem", "study", "--sensitivity-dynamic"])).sensitivity_dynamic is True
+    assert _opts(build_parser().parse_args(["fem", "study"])).sensitivity_dynamic is False
+
+
 def test_bodies_are_flexible_by_default_and_rigid_on_request():
     """`fem table|study|solve` bend the robots with the CAD's section unless told `--rigid`."""
     from voidcross.cli import build_parser

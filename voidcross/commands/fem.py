@@ -104,7 +104,8 @@ def _opts(args):
                       flexible=args.flexible, calibration_backlash=args.calibration_backlash,
                       max_width=args.max_width, measured=args.measured,
                       piers=getattr(args, "piers_rule", "auto"), dynamic=getattr(args, "dynamic", True),
-                      damping_ratio=getattr(args, "damping_ratio", 0.02))
+                      damping_ratio=getattr(args, "damping_ratio", 0.02),
+                      sensitivity_dynamic=getattr(args, "sensitivity_dynamic", False))
 
 
 def _bar(iterable, desc, total):
@@ -553,6 +554,10 @@ def register(sub, common) -> None:
     s = fs.add_parser("study", parents=[common], help="deflection vs width plots, side view, sensitivity",
                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     s.add_argument("--out", default="results/fem-study", help="output directory (default results/fem-study)")
+    s.add_argument("--sensitivity-dynamic", action="store_true",
+                   help="the sensitivity grid by the table's criterion too (static tip + each grid point's own "
+                        "launch allowance; its transients run side by side, cached: tens of minutes cold); "
+                        "default: the grid by the static tip, labelled so in the JSON")
     _add_inputs(s)
     s.set_defaults(func=run_study)
 
