@@ -67,27 +67,6 @@ if HAVE_NUMBA:
         """Entry 1 pops before entry 2 (scipy: max of (-d, i))."""
         return d1 < d2 or (d1 == d2 and i1 > i2)
 
-    @numba.njit(cache=True, inline="always")
-    def _relax(v, nv, j, limit, dist, pred, hd, hi, size):  # pragma: no cover - compiled
-        """Relax the edge v -> j to the distance ``nv`` (pushing j when improved: sift up in the
-        4-ary heap, which has room for it); returns the heap's new size."""
-        if nv <= limit and dist[j] > nv:
-            dist[j] = nv
-            pred[j] = v
-            k = size
-            size += 1
-            while k > 0:
-                par = (k - 1) >> 2
-                if _before(nv, j, hd[par], hi[par]):
-                    hd[k] = hd[par]
-                    hi[k] = hi[par]
-                    k = par
-                else:
-                    break
-            hd[k] = nv
-            hi[k] = j
-        return size
-
     @numba.njit(cache=True)
     def dijkstra_resume(source, closed, emask, off, dw, limit, extra_j, extra_w, dist, pred, hd, hi, size,
                         until):  # pragma: no cover - compiled
@@ -144,33 +123,37 @@ if HAVE_NUMBA:
                 ni[:size] = hi[:size]
                 hd = nd
                 hi = ni
-            if v == source:
-                for e in range(extra_j.shape[0]):
-                    j = extra_j[e]
-                    if not closed[j]:
-                        size = _relax(v, vd + extra_w[e], j, limit, dist, pred, hd, hi, size)
+            # its grid edges (directions 0..7), and the source its extra edges (8..); written out in
+            # the loop, not through a helper: measured 2.3x faster (a full large-void field 17 -> 7.3 ms)
             m = emask[v]
-            for q in range(8):  # written out, not through _relax: measured 2.3x faster (a full large-void field 17 -> 7.3 ms)
-                if m & (1 << q):
-                    j = v + off[q]
-                    if closed[j]:
+            ne = extra_j.shape[0] if v == source else 0
+            for q in range(8 + ne):
+                if q < 8:
+                    if not m & (1 << q):
                         continue
-                    nv = vd + dw[q]
-                    if nv <= limit and dist[j] > nv:
-                        dist[j] = nv
-                        pred[j] = v
-                        k = size
-                        size += 1
-                        while k > 0:
-                            par = (k - 1) >> 2
-                            if _before(nv, j, hd[par], hi[par]):
-                                hd[k] = hd[par]
-                                hi[k] = hi[par]
-                                k = par
-                            else:
-                                break
-                        hd[k] = nv
-                        hi[k] = j
+                    j = v + off[q]
+                    w = dw[q]
+                else:
+                    j = extra_j[q - 8]
+                    w = extra_w[q - 8]
+                if closed[j]:
+                    continue
+                nv = vd + w
+                if nv <= limit and dist[j] > nv:  # strictly shorter: push (sift up in the 4-ary heap)
+                    dist[j] = nv
+                    pred[j] = v
+                    k = size
+                    size += 1
+                    while k > 0:
+                        par = (k - 1) >> 2
+                        if _before(nv, j, hd[par], hi[par]):
+                            hd[k] = hd[par]
+                            hi[k] = hi[par]
+                            k = par
+                        else:
+                            break
+                    hd[k] = nv
+                    hi[k] = j
         return size, hd, hi
 
     @numba.njit(cache=True)
