@@ -71,6 +71,16 @@ def test_pipeline_stage_sets_the_context(tmp_path, pairs):
         if p.suffix in (".png", ".glb"):
             assert p.read_bytes()[:4] == (b"\x89PNG" if p.suffix == ".png" else b"glTF"), p
     assert "GLB" in line and "renders" in line
+    # sliced as the packaged record is: `make demo`'s structure study derives for the packaged CuBot
+    # (the README's thresholds) and finds its packaged launch transients
+    from cubot_cad.jsonrecord import to_jsonable
+    from cubot_cad.properties import default_properties
+    from cubot_cad.slicing import slicer_path
+
+    assert slicer_path() is not None, "make's clients target installs prusa-slicer"
+    assert "sliced masses" in line
+    got = RobotPropertiesFile.load(ctx["robot_properties"]).get("cubot")
+    assert to_jsonable(got) == to_jsonable(default_properties().get("cubot"))
 
 
 # --- the clearance range on the command line -------------------------------------------------

@@ -542,17 +542,23 @@ def pipeline_stage(out: Path, ctx: dict) -> str:
         raise StageUnavailable(f"cadquery/trimesh/manifold3d not installed ({exc.name}); "
                                "using the packaged robot_properties.json") from None
     from cubot_cad.export import DEFAULT_FORMATS, ROBOT_NAMES
+    from cubot_cad.slicing import slicer_path
 
     out = Path(out)
-    payload = do_export(out, ROBOT_NAMES, DEFAULT_FORMATS, "abs", 0.2)
+    # sliced as the packaged record is (each part's mass the slicer's grams at its print settings),
+    # so the pipeline's structure study derives for that record and finds its packaged launch
+    # transients; without prusa-slicer the solid model's masses, and the summary says so
+    sliced = slicer_path() is not None
+    payload = do_export(out, ROBOT_NAMES, DEFAULT_FORMATS, "abs", 0.2, slice_parts=sliced)
     pngs = pipeline_renders(out, 0.2)
     ctx["robot_properties"] = payload["robot_properties"]
     ctx["cad_dir"] = str(out)
     cub = payload["robots"]["cubot"]
     gaps = ", ".join(f"{p['pair']} {p['gap_mm']:.1f} mm" for p in payload["docked_pairs"]
                      if p["pair"] in ("cubot-front-rear", "cube-robot-front-rear", "octbot-ring"))
+    masses = "sliced masses" if sliced else "solid-model masses (no prusa-slicer on PATH)"
     return (f"{payload['parts']} printable parts of {len(ROBOT_NAMES)} robots, CuBot {cub['total_mass_g']:.0f} g "
-            f"(printed {cub['printed_mass_g']:.0f} g); docked gaps {gaps}; {len(payload['glb'])} GLB models, "
+            f"(printed {cub['printed_mass_g']:.0f} g, {masses}); docked gaps {gaps}; {len(payload['glb'])} GLB models, "
             f"{len(pngs)} renders; {out}/robot_properties.json")
 
 
