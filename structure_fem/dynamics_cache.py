@@ -217,8 +217,11 @@ def prefill(jobs, workers: int | None = None, cache_dir: Path | None = None, pro
     the cache is read-only); a transient that does not converge is remembered, so the caller's
     own call fails at once (and counts it as failing) instead of integrating it again."""
     import concurrent.futures as cf
+    import multiprocessing as mp
 
     workers = workers_default() if workers is None else workers
+    if mp.current_process().daemon:  # a pool's worker may not start processes of its own: run here
+        workers = 1
     todo: dict[str, Job] = {}
     for j in jobs:
         k = j.key()

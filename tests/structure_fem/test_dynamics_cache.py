@@ -166,3 +166,19 @@ def test_bad_worker_counts_are_refused(monkeypatch):
         dc.workers_default()
     monkeypatch.setenv(dc.WORKERS_ENV, "3")
     assert dc.workers_default() == 3
+
+
+def _prefill_in_a_daemon(robot, conn, cache) -> int:
+    heavier = [replace(robot, mass_kg=robot.mass_kg * f) for f in (1.11, 1.13)]  # keys no other test computed
+    return dc.prefill(_jobs(heavier[0], conn, (1,)) + _jobs(heavier[1], conn, (1,)), workers=2, cache_dir=cache)
+
+
+def test_prefill_inside_a_daemonic_pool_worker_runs_in_that_worker(setup):
+    """A daemonic process (a multiprocessing.Pool's worker) may not start processes: prefill then
+    integrates in that process instead of failing."""
+    import multiprocessing as mp
+
+    robot, conn, cache = setup
+    with mp.get_context("fork").Pool(1) as pool:
+        assert pool.apply_async(_prefill_in_a_daemon, (robot, conn, cache)).get(timeout=300) == 2
+    assert len(list(cache.glob("*.json"))) == 2
