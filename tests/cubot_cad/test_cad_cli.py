@@ -81,6 +81,7 @@ def test_pipeline_stage_sets_the_context(tmp_path, pairs):
     assert "sliced masses" in line
     got = RobotPropertiesFile.load(ctx["robot_properties"]).get("cubot")
     assert to_jsonable(got) == to_jsonable(default_properties().get("cubot"))
+    assert f"CuBot record {1e3 * got.mass_kg:.1f} g" in line  # the mass the structure study uses
 
 
 # --- the clearance range on the command line -------------------------------------------------

@@ -556,9 +556,13 @@ def pipeline_stage(out: Path, ctx: dict) -> str:
     cub = payload["robots"]["cubot"]
     gaps = ", ".join(f"{p['pair']} {p['gap_mm']:.1f} mm" for p in payload["docked_pairs"]
                      if p["pair"] in ("cubot-front-rear", "cube-robot-front-rear", "octbot-ring"))
+    from cubot_cad.properties import RobotPropertiesFile
+
+    record_g = 1e3 * RobotPropertiesFile.load(payload["robot_properties"]).get("cubot").mass_kg
     masses = "sliced masses" if sliced else "solid-model masses (no prusa-slicer on PATH)"
-    return (f"{payload['parts']} printable parts of {len(ROBOT_NAMES)} robots, CuBot {cub['total_mass_g']:.0f} g "
-            f"(printed {cub['printed_mass_g']:.0f} g, {masses}); docked gaps {gaps}; {len(payload['glb'])} GLB models, "
+    return (f"{payload['parts']} printable parts of {len(ROBOT_NAMES)} robots, CuBot record {record_g:.1f} g "
+            f"({masses}; solid model {cub['total_mass_g']:.0f} g, of it printed parts {cub['printed_mass_g']:.0f} g); "
+            f"docked gaps {gaps}; {len(payload['glb'])} GLB models, "
             f"{len(pngs)} renders; {out}/robot_properties.json")
 
 
