@@ -148,12 +148,6 @@ def variant_curve(s, inp: StudyInputs, start: int, max_steps: int = 12) -> tuple
     return c, note
 
 
-def threshold_from(s, inp: StudyInputs, start: int, max_steps: int = 12) -> tuple[int, str]:
-    """The static threshold of ``s`` under ``inp``, stepping from ``start`` (:func:`variant_curve`)."""
-    c, note = variant_curve(s, inp, start, max_steps)
-    return c.threshold, note
-
-
 def _variants(inp: StudyInputs) -> list[tuple[str, StudyInputs]]:
     c0 = record_clearance_mm(inp)
     lo, hi = PRINT_CLEARANCE_RANGE_MM
@@ -196,15 +190,8 @@ def variant_ranges(d: Derivation, names: list[str] | None = None, progress=None)
         for vname, v in _variants(inp):
             vc, note = variant_curve(c.structure, v, c.threshold)
             work.append((c.structure.name, vname, v, vc, note))
-    if inp.dynamic:  # one pool for every variant of every structure; each variant's own inputs
-        from .dynamics_cache import Job, prefill
-
-        jobs = [Job(vc.structure, vc.threshold, vc.rows[vc.widths.index(vc.threshold)], v.robot, v.connectors,
-                    v.flexible, v.damping_ratio) for _n, _vn, v, vc, _note in work
-                if vc.threshold >= 1 and vc.threshold in vc.widths]
-        prefill(jobs, progress=progress, label="launch transients (ranges)")
-        for _n, _vn, v, vc, _note in work:
-            apply_dynamic([vc], v, workers=1)
+    if inp.dynamic:  # one pool for every variant of every structure, each with its own inputs
+        apply_dynamic([(vc, v) for _n, _vn, v, vc, _note in work], progress, label="launch transients (ranges)")
     out: dict[str, list[dict]] = {}
     for name, vname, _v, vc, note in work:
         e = {"inputs": vname, "threshold": vc.threshold}

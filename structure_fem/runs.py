@@ -337,7 +337,6 @@ def sensitivity(opts: RunOptions, progress: Progress | None = None, grid=SENSITI
     (:func:`structure_fem.study.apply_dynamic`). ``not_converged`` lists the widths whose solve
     did not converge (counted as failing); with ``failures`` their details are appended there,
     with the grid point as context."""
-    from .dynamics_cache import Job, prefill
     from .study import apply_dynamic, levels_of
 
     props = load_file(opts)
@@ -358,12 +357,9 @@ def sensitivity(opts: RunOptions, progress: Progress | None = None, grid=SENSITI
             cache[key] = (derive(replace(inp, dynamic=False), extra=0), inp)
         points.append((p, u, v, key, fresh))
     if dyn:  # every grid point's transients at its static thresholds at once, then the step-down
-        prefill([Job(c.structure, c.threshold, c.rows[c.widths.index(c.threshold)], inp.robot, inp.connectors,
-                     inp.flexible, inp.damping_ratio)
-                 for d, inp in cache.values() for c in d.curves if c.threshold >= 1 and c.threshold in c.widths],
-                progress=progress, label="launch transients (sensitivity)")
+        apply_dynamic([(c, inp) for d, inp in cache.values() for c in d.curves], progress,
+                      label="launch transients (sensitivity)")
         for d, inp in cache.values():
-            apply_dynamic(d.curves, inp, workers=1)
             d.inputs, d.levels = inp, levels_of(d.curves)
     rows = []
     for p, u, v, key, fresh in points:

@@ -316,21 +316,21 @@ def structure_curve(s: Structure, inp: StudyInputs, extra: int = 1, tick: Callab
                 break
     c.threshold = lo
     if inp.dynamic if dynamic is None else dynamic:
-        apply_dynamic([c], inp)
+        apply_dynamic([(c, inp)])
     return c
 
 
-def apply_dynamic(curves: list[Curve], inp: StudyInputs, progress: Callable[[Iterable, str, int], Iterable] | None
-                  = None, workers: int | None = None) -> None:
-    """Turn the curves' static thresholds into dynamic ones (:func:`dynamic_threshold`). The
-    launch transients at every curve's static threshold are integrated first, side by side in
-    ``workers`` processes (:func:`structure_fem.dynamics_cache.prefill`); the step-down then
-    finds them cached. A width whose static solve fails here is left to the step-down (which
-    counts it as failing)."""
+def apply_dynamic(pairs: list[tuple[Curve, StudyInputs]], progress: Callable[[Iterable, str, int], Iterable]
+                  | None = None, workers: int | None = None, label: str = "launch transients") -> None:
+    """Turn each curve's static threshold into the dynamic one under its inputs
+    (:func:`dynamic_threshold`). The launch transients at every curve's static threshold are
+    integrated first, side by side in ``workers`` processes
+    (:func:`structure_fem.dynamics_cache.prefill`); the step-down then finds them cached. A width
+    whose static solve fails here is left to the step-down (which counts it as failing)."""
     from .dynamics_cache import Job, prefill
 
     jobs = []
-    for c in curves:
+    for c, inp in pairs:
         if c.threshold >= 1:
             try:
                 i = c.index(c.threshold, inp)
@@ -338,8 +338,8 @@ def apply_dynamic(curves: list[Curve], inp: StudyInputs, progress: Callable[[Ite
                 continue
             jobs.append(Job(c.structure, c.threshold, c.rows[i], inp.robot, inp.connectors, inp.flexible,
                             inp.damping_ratio))
-    prefill(jobs, workers, progress=progress)
-    for c in curves:
+    prefill(jobs, workers, progress=progress, label=label)
+    for c, inp in pairs:
         c.static_threshold = c.threshold
         c.threshold = dynamic_threshold(c, inp)
 
@@ -415,7 +415,7 @@ def derive(inp: StudyInputs, progress: Callable[[Iterable, str, int], Iterable] 
     it = structs if progress is None else progress(structs, "fem structures", len(structs))
     curves = [structure_curve(s, inp, extra, dynamic=False) for s in it]
     if inp.dynamic:
-        apply_dynamic(curves, inp, progress)
+        apply_dynamic([(c, inp) for c in curves], progress)
     return Derivation(inp, curves, levels_of(curves))
 
 
