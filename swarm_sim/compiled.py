@@ -764,19 +764,22 @@ def _stacked(fields: list) -> tuple:
     chose them (a stack of eight 100,000-cell fields costs ~2 ms on the large void). One field is
     passed as views of its own arrays (settled in place, seen at once)."""
     goal = np.array([f.goal_cell for f in fields], dtype=np.int64)
-    for objs, vers, arrays in reversed(_STACKS.get("recent", [])):
+    recent = _STACKS.setdefault("recent", [])
+    for entry in reversed(recent):
+        objs, vers, arrays = entry
         rows = []
         for f in fields:
             r = next((k for k, o in enumerate(objs) if o is f), -1)
             if r < 0 or vers[r] != f.version:
                 break
             rows.append(r)
-        else:
+        else:  # in use again: the most recent, so the next stack built never takes its buffers
+            recent.remove(entry)
+            recent.append(entry)
             return (*arrays, goal, np.array(rows, dtype=np.int64))
     if len(fields) == 1:  # views: the kernel reads the field itself (settled in place), no copy
         f = fields[0]
         return f.cost[None, :], f.nxt[None, :], f.closed[None, :], goal, np.zeros(1, np.int64)
-    recent = _STACKS.setdefault("recent", [])
     n, cells = len(fields), fields[0].cost.shape[0]
     old = recent.pop(0)[2] if len(recent) >= 2 else None  # the recruits' stack and the foot round's are kept
     if old is None or old[0].shape[0] < n or old[0].shape[1] != cells:

@@ -347,3 +347,25 @@ def test_the_grid_graph_holds_every_edge_both_ways_and_nothing_else(nx, ny):
             assert dw[k] == math.hypot(di, dj) * 2.5
     with pytest.raises(ValueError, match="differ in length"):
         grid_graph(np.array([0, 1]), np.array([1, 2]), np.array([1.0, 1.5]), 3, 1)
+
+
+def test_a_stack_in_use_again_is_never_the_one_the_next_stack_overwrites():
+    """compiled._stacked reuses the last stacks' buffers: the recruits' stack reused in a call (the
+    fields left after a dock) must keep its contents when the foot round's stack is built next."""
+    from types import SimpleNamespace
+
+    from swarm_sim import compiled as C
+
+    def field(v):
+        return SimpleNamespace(goal_cell=int(v), version=0, cost=np.full(50, float(v)),
+                               nxt=np.full(50, int(v), np.int64), closed=np.zeros(50, bool))
+
+    C._STACKS.clear()
+    f = [field(v) for v in range(1, 7)]
+    C._stacked(f[0:2])
+    C._stacked(f[2:4])
+    cost, _nxt, _closed, goal, rows = C._stacked([f[1]])  # a subset of the older stack: reused
+    assert goal.tolist() == [2] and cost[rows[0], 0] == 2.0
+    C._stacked(f[4:6])  # a new stack: it takes the buffers of the stack not in use
+    assert cost[rows[0], 0] == 2.0 and np.all(cost[rows[0]] == f[1].cost)
+    C._STACKS.clear()
