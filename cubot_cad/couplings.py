@@ -76,7 +76,7 @@ def front_rear(spec, pin_heights_mm: list[float], gap_mm: float, youngs_modulus_
         kind="front_rear", rotational_stiffness_nm_per_rad=k_rot,
         axial_stiffness_n_per_m=k_pin * len(pin_heights_mm),
         backlash_rad=pl["tension"] / lever, gap_m=(gap_mm if gap_mm >= CONTACT_GAP_MM else 0.0) * 1e-3,
-        height_m=height_mm * 1e-3, play=play,
+        height_m=height_mm * 1e-3, play=play, pin_levers_m=tuple(a * 1e-3 for a in arms),
         provenance=(f"hand formula: {len(pin_heights_mm)} pins as axial bars E A_groove / L (head to groove), "
                     f"k_rot = sum k_pin a_i^2 about the hinge at z = {hinge:g} mm; robots and walls rigid; "
                     f"pitch play = tension play / highest pin ({lever:.3g} mm)"))

@@ -185,6 +185,11 @@ class ConnectorProperties:
     #: Vertical (shear) stiffness after the play, N/m, when known apart from the axial one
     #: (an FE result); None: the model uses the axial stiffness in both directions.
     shear_stiffness_n_per_m: float | None = None
+    #: Lever arm (m) of every tension member (pin) about the joint's hinge, from the CAD (one per
+    #: pin; the underside edge of the touching faces for a zero docked gap): where the model's
+    #: emergent hinge (:mod:`structure_fem.hinge`) puts its tension rows. Empty: not known (records
+    #: written before it existed, couplings that are not pinned).
+    pin_levers_m: tuple[float, ...] = ()
 
     def play_of(self, feature: str) -> FeaturePlay | None:
         """The play of ``feature`` (None if the record has none)."""
@@ -208,6 +213,8 @@ class ConnectorProperties:
             require(_finite(v) and v >= 0, f"{self.kind}.{name} must be >= 0, got {v!r}")
         v = self.shear_stiffness_n_per_m
         require(v is None or (_finite(v) and v > 0), f"{self.kind}.shear_stiffness_n_per_m must be > 0, got {v!r}")
+        for v in self.pin_levers_m:
+            require(_finite(v) and 0 <= v < 1, f"{self.kind}.pin_levers_m must be lengths in [0, 1) m, got {v!r}")
         require(self.backlash_rad < 0.5, f"{self.kind}.backlash_rad {self.backlash_rad} is not a small angle (< 0.5 rad)")
 
 
