@@ -71,8 +71,16 @@ def body_bending(robot: RobotProperties) -> BodyBending:
 def with_body_bending(conn, robot: RobotProperties):
     """``conn`` (a :class:`structure_fem.connectors.ConnectorSet`) with half a robot's bending
     compliance on each side of every front-rear joint, in series with the joint's rotational
-    spring: ``1 / k' = 1 / k + L / (E I)``."""
+    spring: ``1 / k' = 1 / k + L / (E I)``. A joint with an emergent hinge
+    (:mod:`structure_fem.hinge`) has no rotational spring: its tension rows carry the rotation, so
+    their stiffness (the joint's axial and rotational alike) is scaled by ``k' / k``, which gives
+    their rotational stiffness about the hinge the same series value."""
+    from .hinge import TOUCHING_GAP_M
+
     c_body = body_bending(robot).compliance_rad_per_nm
     fr = conn.front_rear
     k = 1.0 / (1.0 / fr.rotational_nm_per_rad + c_body)
+    if conn.hinge == "emergent" and fr.kind == "front_rear" and fr.gap_m <= TOUCHING_GAP_M:
+        return replace(conn, front_rear=replace(fr, rotational_nm_per_rad=k,
+                                                axial_n_per_m=fr.axial_n_per_m * k / fr.rotational_nm_per_rad))
     return replace(conn, front_rear=replace(fr, rotational_nm_per_rad=k))

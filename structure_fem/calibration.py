@@ -366,4 +366,4 @@ def calibrated_connectors(conn: ConnectorSet, cal: Calibration) -> ConnectorSet:
             return None
         return replace(j, rotational_nm_per_rad=j.rotational_nm_per_rad * cal.ratio,
                        provenance=f"{j.provenance}; rotational x{cal.ratio:.4g} (platform bolt calibration)")
-    return ConnectorSet(s(conn.front_rear), s(conn.side_rail), s(conn.top_twist))
+    return replace(conn, front_rear=s(conn.front_rear), side_rail=s(conn.side_rail), top_twist=s(conn.top_twist))

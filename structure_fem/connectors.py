@@ -61,6 +61,9 @@ class Joint:
     #: Stiffness along z (N/m) when it differs from the axial one (the FE's shear after the play).
     shear_n_per_m: float | None = None
     provenance: str = ""
+    #: Lever arm (m) of every tension member about the hinge (the record's ``pin_levers_m``):
+    #: the emergent hinge's tension rows (:mod:`structure_fem.hinge`); empty: not known.
+    levers_m: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
         _pos(f"{self.kind} rotational stiffness (N m/rad)", self.rotational_nm_per_rad)
@@ -160,6 +163,16 @@ class ConnectorSet:
     front_rear: Joint
     side_rail: Joint | None = None
     top_twist: Joint | None = None
+    #: How a coupling whose faces touch is modelled (:data:`structure_fem.hinge.HINGES`):
+    #: ``"lumped"`` (one point spring + a pitch dead band of tension play / highest pin, the
+    #: packaged record's model) or ``"emergent"`` (tension rows + compression-only face contacts).
+    hinge: str = "lumped"
+
+    def __post_init__(self) -> None:
+        from .hinge import HINGES
+
+        if self.hinge not in HINGES:
+            raise InputError(f"hinge model {self.hinge!r} is not one of {', '.join(HINGES)}")
 
     @classmethod
     def from_robot(cls, robot: RobotProperties) -> ConnectorSet:
@@ -175,14 +188,15 @@ class ConnectorSet:
                 return None
             return Joint(c.kind, c.rotational_stiffness_nm_per_rad, c.axial_stiffness_n_per_m,
                          c.backlash_rad, c.height_m, c.gap_m, **joint_play(c.play),
-                         shear_n_per_m=c.shear_stiffness_n_per_m, provenance=c.provenance)
+                         shear_n_per_m=c.shear_stiffness_n_per_m, provenance=c.provenance,
+                         levers_m=tuple(c.pin_levers_m))
 
         return cls(joint(line), joint(kinds.get("side_rail")), joint(kinds.get("top_twist")))
 
     def scaled(self, stiffness: float = 1.0, backlash: float = 1.0) -> ConnectorSet:
         def s(j: Joint | None) -> Joint | None:
             return None if j is None else j.scaled(stiffness, backlash)
-        return ConnectorSet(s(self.front_rear), s(self.side_rail), s(self.top_twist))
+        return replace(self, front_rear=s(self.front_rear), side_rail=s(self.side_rail), top_twist=s(self.top_twist))
 
     def to_dict(self) -> dict:
         out = {}
@@ -192,5 +206,7 @@ class ConnectorSet:
                 out[name] = {"kind": j.kind, "rotational_nm_per_rad": j.rotational_nm_per_rad,
                              "axial_n_per_m": j.axial_n_per_m, "shear_n_per_m": j.k_z,
                              "backlash_rad": j.backlash_rad, "play_x_m": list(j.play_x),
-                             "play_z_m": list(j.play_z), "height_m": j.height_m, "provenance": j.provenance}
+                             "play_z_m": list(j.play_z), "height_m": j.height_m, "levers_m": list(j.levers_m),
+                             "provenance": j.provenance}
+        out["hinge"] = self.hinge
         return out

@@ -24,8 +24,9 @@ state (the longest cantilever, ``rows_over = void_width``, the table's minimal r
   the push is the one before it (the push is transient; the recruit's weight on the ground
   behind the rear only adds restoring moment), so the overshoot is the peak above it.
 
-Model. The bodies, couplings (dead bands, translational play), ledge contacts and gravity are
-those of :mod:`structure_fem.model` (same formulas, rebuilt here because the dynamic system
+Model. The bodies, couplings (the emergent hinge's tension rows and face contacts,
+:mod:`structure_fem.hinge`, built by the same function; dead bands and translational play of
+the lumped couplings), ledge contacts and gravity are those of :mod:`structure_fem.model` (same formulas, rebuilt here because the dynamic system
 needs damping, initial conditions and a moved support; the static equilibrium the transient
 starts from *is* :func:`structure_fem.model.solve`'s, with all its retries). Damping is Rayleigh
 damping proportional to the *tangent* stiffness of every spring (coupling, dead band, contact):
@@ -94,6 +95,7 @@ from cubot_cad.properties import RobotProperties
 
 from .connectors import ConnectorSet
 from .errors import InputError, SolverFailure
+from .hinge import add_links, along_factor, emergent
 from .model import (
     CONTACT_N_PER_M,
     CONTACT_SMOOTHING_M,
@@ -355,9 +357,12 @@ def _build(lay: Layout, supports: tuple[Support, ...], q0: np.ndarray, beta: flo
 
     keep: list = []
     for c in lay.couplings:
+        if emergent(c, lay.hinge):  # the static model's links (structure_fem.hinge), damped
+            add_links(mbs, keep, objs, lay, c, kc, beta=beta)
+            continue
         ma = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[c.a], localPosition=local(c.a, c.point_m)))
         mb = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[c.b], localPosition=local(c.b, c.point_m)))
-        ka = c.joint.axial_n_per_m * c.count
+        ka = c.joint.axial_n_per_m * c.count * along_factor(c, lay.hinge)
         kz = c.joint.k_z * c.count
         if c.joint.has_translational_play:
             bands = translational_bands(c.joint, c.count, lay.bodies[c.a].mass_kg * GRAVITY)

@@ -33,7 +33,7 @@ from pathlib import Path
 from cubot_cad.jsonrecord import to_jsonable
 
 #: Bump when the transient model (dynamics.py, the static solve it starts from) changes its result.
-MODEL_VERSION = "launch_transient/1"
+MODEL_VERSION = "launch_transient/3"  # 2, 3: the emergent hinge (structure_fem.hinge), its smoothing floor
 #: The packaged allowances (a list of entries ``{"key", "allowance_m", "inputs"}``).
 PACKAGED = Path(__file__).parent / "data" / "dynamic_allowance.json"
 

@@ -5,7 +5,11 @@
 * each planar body (robots merged as :mod:`structure_fem.structures` explains)
   is an ``ObjectRigidBody2D`` at its centre of mass with the robots' summed
   mass and pitch inertia Iyy from ``robot_properties.json``;
-* each coupling is a *penalty* connector, because Lagrange-multiplier joints
+* a coupling whose faces touch (the CuBot's front-rear coupling, every layer's twist-lock) is,
+  with ``ConnectorSet.hinge == "emergent"``, built from its parts by :mod:`structure_fem.hinge`: tension rows with their play
+  and compression-only face contacts, so its hinge and rotational play emerge. Otherwise
+  (``"lumped"``, the default, and the couplings whose faces do not touch)
+  each coupling is a *penalty* connector, because Lagrange-multiplier joints
   stop converging once rotations grow (toolchain notes): an
   ``ObjectConnectorCartesianSpringDamper`` for the pin (axial stiffness in
   x and z) plus an ``ObjectConnectorCoordinateSpringDamper`` between the two
@@ -61,6 +65,7 @@ from cubot_cad.properties import RobotProperties
 
 from .connectors import SMOOTHING, ConnectorSet, band_force, dead_band_moment
 from .errors import InputError, SolverFailure
+from .hinge import add_links, along_factor, emergent
 from .structures import GRAVITY, Layout, Pier, Structure, layout, tipping_edge, tipping_factor
 
 #: Ledge contact stiffness per support point (N/m): stiff against the couplings, not ill-conditioned.
@@ -387,9 +392,13 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
 
     keep: list = []  # symbolic user functions must outlive the solve
     for c in lay.couplings:
+        if emergent(c, lay.hinge):  # tension rows + face contacts: the hinge emerges (structure_fem.hinge)
+            add_links(mbs, keep, objs, lay, c, options.contact_n_per_m, start=options.smoothing_start,
+                      power=options.smoothing_power, symbolic=SYMBOLIC)
+            continue
         ma = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[c.a], localPosition=local(c.a, c.point_m)))
         mb = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[c.b], localPosition=local(c.b, c.point_m)))
-        ka = c.joint.axial_n_per_m * c.count
+        ka = c.joint.axial_n_per_m * c.count * along_factor(c, lay.hinge)
         kz = c.joint.k_z * c.count
         extra = {}
         if c.joint.has_translational_play:

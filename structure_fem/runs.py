@@ -80,8 +80,14 @@ class RunOptions:
     #: transients, all of them side by side; ~72 more integrations, tens of minutes cold); False
     #: (the default): the grid by the static tip, labelled so.
     sensitivity_dynamic: bool = False
+    #: How couplings whose faces touch are modelled (:data:`structure_fem.hinge.HINGES`; ``--hinge``).
+    hinge: str = "lumped"
 
     def __post_init__(self) -> None:
+        from .hinge import HINGES
+
+        if self.hinge not in HINGES:
+            raise InputError(f"--hinge {self.hinge!r} is not one of {', '.join(HINGES)}")
         if self.connectors not in CONNECTOR_SOURCES:
             raise InputError(f"--connectors {self.connectors!r} is not one of {', '.join(CONNECTOR_SOURCES)}")
         if self.piers not in PIER_CHOICES:
@@ -112,11 +118,13 @@ def make_inputs(opts: RunOptions, props: RobotPropertiesFile | None = None,
     inp = StudyInputs.for_robot(robot, clearance, opts.stiffness_scale, opts.backlash_scale, opts.mass_scale,
                                 required_tipping=opts.required_tipping, flexible=opts.flexible,
                                 max_width=opts.max_width, dynamic=opts.dynamic, damping_ratio=opts.damping_ratio)
+    inp = replace(inp, connectors=replace(inp.connectors, hinge=opts.hinge))
     if cal is None:
         cal = calibrate(props, opts.calibration_backlash)
     # The calibration scales the record's hand estimates (it says how far off they were).
     cal_conn = calibrated_connectors(ConnectorSet.from_robot(record).scaled(opts.stiffness_scale,
                                                                            opts.backlash_scale), cal)
+    cal_conn = replace(cal_conn, hinge=opts.hinge)
     if opts.connectors == "calibrated":
         inp = replace(inp, connectors=cal_conn)
     info = cal.to_dict()

@@ -249,6 +249,11 @@ class Layout:
     #: Where the robots touch the ground (:class:`~structure_fem.contacts.GroundSupport`; None:
     #: body corners, as a layout built before contacts existed).
     ground: GroundSupport | None = None
+    #: The robot's height (m): a layer's underside sits ``height_m`` above the one below, and a
+    #: front-rear coupling's faces span it (the emergent hinge's top edge, :mod:`structure_fem.hinge`).
+    height_m: float = 0.0
+    #: How couplings whose faces touch are modelled (``ConnectorSet.hinge``).
+    hinge: str = "lumped"
 
     def pier_range_m(self, i: int) -> tuple[float, float]:
         return self.piers[i].x_range_m(self.pitch_m, self.length_m)
@@ -342,7 +347,8 @@ def layout(structure: Structure, robot: RobotProperties, conn: ConnectorSet, row
                          f"with {rows_over} rows over the void")
     front = index[(0, 0, 0)]
     rear = index[(0, 0, rows - 1)]
-    return Layout(tuple(bodies), tuple(couplings), tuple(supports), front, rear, L, pitch, void, piers, ground)
+    return Layout(tuple(bodies), tuple(couplings), tuple(supports), front, rear, L, pitch, void, piers, ground,
+                  height_m=H, hinge=conn.hinge)
 
 
 def _pier_supports(bodies: list[Body], L: float, pitch: float, piers: tuple[Pier, ...],
@@ -485,7 +491,7 @@ def tapered_layout(structure: Structure, robot: RobotProperties, conn: Connector
     if not any(s.ledge == "near" for s in supports):  # pragma: no cover - rows - g >= k B >= 1 rests
         raise InputError(f"{structure.name}: no row rests on the near ledge")
     return Layout(tuple(bodies), tuple(couplings), tuple(supports), index[(0, g - 1)], index[(0, g - rows)],
-                  L, pitch, void, ground=ground)
+                  L, pitch, void, ground=ground, height_m=H, hinge=conn.hinge)
 
 
 def tipping_edge(lay: Layout) -> float:

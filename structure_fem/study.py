@@ -462,7 +462,10 @@ def limits_from(d: Derivation, source: str = "derived") -> StructureLimits:
     narrows = [f"{c.structure.name} to {c.threshold} with {c.robots[c.widths.index(c.threshold)]} robots"
                for c in d.curves if narrow(c.structure) and c.threshold]
     failing = [f"{f.structure} at width {f.width}" for f in d.failures if f.counted_as == "counted as failing"]
-    notes = (f"Derived by structure_fem (exudyn planar multibody, penalty couplings with pitch dead band and "
+    hinge = ("emergent hinges (tension rows with their play + compression-only face contacts where the faces "
+             "touch, sliding side rails)" if inp.connectors.hinge == "emergent" else
+             "lumped couplings (pitch dead band = tension play / highest pin, side rails as ties)")
+    notes = (f"Derived by structure_fem (exudyn planar multibody, penalty couplings, {hinge}, "
              f"translational play per feature from the CAD clearances) for "
              f"{inp.robot.name}: clearance {inp.clearance_m * 1e3:g} mm, tipping factor > {inp.required_tipping:g}; "
              + ("flexible bodies (each robot bends with its printed shell's section from the CAD)" if inp.flexible

@@ -111,6 +111,7 @@ def test_caster_clearance_is_the_strict_alternative(cli, tmp_path):
     (("fem", "solve", "--structure", "arch", "--lines", "6", "--layers", "3", "--taper-block-rows", "0",
       "--rows", "30", "--over", "15", "--void", "15"), "taper_block_rows=0"),
     (("fem", "table", "--properties", "/nonexistent/robot_properties.json"), "not found"),
+    (("fem", "table", "--hinge", "bogus"), "bogus"),
 ])
 def test_bad_input_is_one_line_exit_2(cli, tmp_path, argv, word):
     out = tmp_path / "out"
@@ -199,3 +200,21 @@ def test_bodies_are_flexible_by_default_and_rigid_on_request():
     assert _opts(p.parse_args(["fem", "study", "--rigid"])).flexible is False
     with pytest.raises(SystemExit):
         p.parse_args(["fem", "table", "--rigid", "--flexible"])
+
+
+def test_the_hinge_model_is_a_choice_and_the_lumped_one_is_the_earlier_model(cli, tmp_path):
+    """``--hinge emergent`` against the default lumped one (one point spring + a dead band, side
+    rails as ties) on the packaged CuBot, static criterion: the staggered arches lose the rails'
+    tie, and the record says which model it derived with."""
+    def run(name, *extra):
+        res = cli("fem", "table", "--static", "--json", "--max-width", "8", "--out", str(tmp_path / name), *extra)
+        assert res.code == 0, res.err
+        return res.json()
+
+    em, lu = run("em", "--hinge", "emergent"), run("lu")
+    te, tl = em["thresholds_per_structure"], lu["thresholds_per_structure"]
+    assert tl["arch-4x2-staggered"] > te["arch-4x2-staggered"]
+    assert em["calibration"]["robot_connectors"]["hinge"] == "emergent"
+    assert lu["calibration"]["robot_connectors"]["hinge"] == "lumped"
+    notes = json.loads((tmp_path / "em" / "limits.json").read_text())["notes"]
+    assert "emergent hinges" in notes
