@@ -229,8 +229,8 @@ def axis_force(ax: Axis, u: float, e: float | None = None) -> float:
         return 0.0
     if ax.kind == "lin":
         return k * u
-    if ax.kind == "contact":  # not zero at 0 (see _contact); (e - ax.e): widened, no push at 0
-        return 0.5 * k * (u - math.sqrt(u * u + e * e) + (e - ax.e))
+    if ax.kind == "contact":  # not zero at 0: see _contact
+        return 0.5 * k * (u - math.sqrt(u * u + e * e))
     o = ax.opening
 
     def t(x: float) -> float:
@@ -255,9 +255,9 @@ def _sym_force(esym, ax: Axis, x, ee):
         return 0.0, 0.0
     if ax.kind == "lin":
         return k * x, k
-    if ax.kind == "contact":  # (ee - e): no push at 0 while the continuation has it widened
+    if ax.kind == "contact":
         r = esym.sqrt(x * x + ee * ee)
-        return 0.5 * k * (x - r + (ee - ax.e)), 0.5 * k * (1.0 - x / r)
+        return 0.5 * k * (x - r), 0.5 * k * (1.0 - x / r)
     o = ax.opening
     a = x - o
     ra = esym.sqrt(a * a + ee * ee)
