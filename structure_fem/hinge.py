@@ -176,6 +176,16 @@ def _contact(k: float, scale: float, force_scale_n: float) -> Axis:
     return Axis("contact", k, e=_smoothing(k, scale, force_scale_n))
 
 
+def _contact_scale(play: float, k_row: float, force_scale_n: float) -> float:
+    """The length a coupling's face contacts are smoothed as a band of (:func:`_contact`): its
+    tension play; without play, the stretch one body's weight makes in the coupling's rows
+    (``force / k_row``, as the rows' own smoothing, :func:`_smoothing`). Measured: smoothed over
+    the stiff faces' own stretch instead (30x shorter), a play-free line resting on a pier, whose
+    joints near the moment's change of sign sit on the kink between rows and faces, made Newton
+    fail (21 rows over a 19-wide void, pier at 8, x0 play, x0.5 mass, every retry)."""
+    return play if play > 0 else ZERO_PLAY_SCALE * force_scale_n / k_row
+
+
 def _band(k: float, play: tuple[float, float], force_scale_n: float) -> Axis:
     c, o = play
     gap = max(c, o)
@@ -199,8 +209,9 @@ def links(coupling, lay, force_scale_n: float, contact_n_per_m: float) -> tuple[
                for lever, k in rows(j)]
         out.append(Link(c.a, c.b, c.point_m, FREE, _band(j.k_z * n, j.play_z, force_scale_n), "pin shear"))
         kf = FACE_CONTACT_FACTOR * j.axial_n_per_m * n
+        scale = _contact_scale(j.play_x[1], j.axial_n_per_m * n, force_scale_n)
         for z, what in ((base, "bottom"), (base + lay.height_m, "top")):
-            out.append(Link(c.a, c.b, (x_j, z), _contact(kf, j.play_x[1], force_scale_n), FREE,
+            out.append(Link(c.a, c.b, (x_j, z), _contact(kf, scale, force_scale_n), FREE,
                             f"faces, {what} edge"))
         return tuple(out)
     if c.role == "top_twist":
@@ -210,8 +221,9 @@ def links(coupling, lay, force_scale_n: float, contact_n_per_m: float) -> tuple[
         upper = lay.bodies[c.b]
         points = lay.ground.points if lay.ground is not None else ((-lay.length_m / 2, 0.0), (lay.length_m / 2, 0.0))
         kc = contact_n_per_m * n
+        scale = _contact_scale(j.play_z[1], j.k_z * n, force_scale_n)
         for gx, _gz in points:
-            out.append(Link(c.a, c.b, (upper.x_m + gx, z_top), FREE, _contact(kc, j.play_z[1], force_scale_n),
+            out.append(Link(c.a, c.b, (upper.x_m + gx, z_top), FREE, _contact(kc, scale, force_scale_n),
                             f"upper robot's contact at {gx * 1e3:+.3g} mm"))
         return tuple(out)
     raise ValueError(f"no emergent hinge for a {c.role} coupling")

@@ -232,7 +232,11 @@ def structure_report(d: Derivation, c: Curve, ranges: bool | list[dict] = True) 
     out["rows"] = c.rows[i]
     out["robots"] = c.robots[i]
     out["tipping_factor"] = round(c.tipping[i], 4)
-    out["margin_beyond_mm"] = (round(clear - c.tip_mm[c.widths.index(w + 1)], 4) if w + 1 in c.widths else None)
+    # one width beyond, by the same criterion: its launch allowance too where it was integrated
+    # (the dynamic threshold stepped down from there); beyond the static threshold the static tip
+    # alone is over the clearance
+    out["margin_beyond_mm"] = (round(clear - c.tip_mm[c.widths.index(w + 1)] - c.allowance_mm.get(w + 1, 0.0), 4)
+                               if w + 1 in c.widths else None)
     out["marginal"] = out["margin_mm"] < MARGINAL_FRACTION * clear
     #: The search stopped at the widest width studied: the threshold (and its range) is a lower bound.
     out["capped_by_max_width"] = w >= inp.max_width

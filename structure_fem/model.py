@@ -88,6 +88,10 @@ class Config:
     clamped: bool = False
     #: Intermediate supports (:class:`~structure_fem.structures.Pier`), in order from the near edge.
     piers: tuple[Pier, ...] = ()
+    #: The rearmost support holds both ways (the rest stay one-sided): the solve
+    #: :func:`solve_uncached` falls back on when the free structure finds no equilibrium, to tell
+    #: a structure that tips (the anchor has to pull it down) from a solver that failed.
+    anchored: bool = False
 
     def describe(self, robot: str = "") -> str:
         who = f"{robot} " if robot else ""
@@ -149,6 +153,9 @@ class StaticResult:
     tipping_factor: float
     robots: int
     pier_compression_m: tuple[float, ...] = ()
+    #: How hard (N) the rearmost support had to pull the structure down for it to stand: > 0 only
+    #: when the free structure has no equilibrium and tips (:func:`_anchored`).
+    anchor_pull_n: float = 0.0
 
     @property
     def tip_deflection_mm(self) -> float:
@@ -231,11 +238,58 @@ def solve_uncached(config: Config, robot: RobotProperties, conn: ConnectorSet | 
             return _solve_once(config, robot, conn, opt)
         except SolverFailure as exc:
             last = exc
+    anchored = _anchored(config, robot, conn, options)
+    if anchored is not None:
+        return anchored
     tried = ", ".join(f"{o.load_steps}{'' if o.smoothing_start else ' plain'}"
                       + (f" (smoothing {o.smoothing_start:g}x/{o.smoothing_power})"
                          if o.smoothing_start and (o.smoothing_start, o.smoothing_power) !=
                          (options.smoothing_start, options.smoothing_power) else "") for o in attempts[1:])
     raise SolverFailure(f"{last} (also retried with {tried} load steps)")
+
+
+def _anchored(config: Config, robot: RobotProperties, conn: ConnectorSet,
+              options: SolverOptions) -> StaticResult | None:
+    """The free structure found no equilibrium: solve it again with its rearmost support
+    holding both ways. If that support then pushes (or carries nothing), the anchored state is
+    an equilibrium of the free structure too (every one-sided contact in compression): it is
+    returned as the solution. If it has to pull the structure down, the free structure has no
+    equilibrium: it tips about its front-most support, and the state is returned with its
+    tipping factor set to the restoring over the overturning moment with the anchor's pull taken
+    out of the restoring side (below 1; ``anchor_pull_n`` says by how much it pulled). None when
+    the anchored solve fails too (or the structure is clamped, or not a cantilever)."""
+    if config.clamped or config.anchored or config.phase != "cantilever":
+        return None
+    cfg = replace(config, anchored=True)
+    n = options.load_steps
+    for opt in (options, replace(options, load_steps=4 * n, relative_tolerance=100 * options.relative_tolerance)):
+        try:
+            res = _solve_once(cfg, robot, conn, opt)
+        except SolverFailure:
+            continue
+        lay = res.layout
+        rear = min(range(len(lay.supports)), key=lambda i: lay.supports[i].point_m[0])
+        pull = max(0.0, -float(res.reactions_n[rear]))
+        if pull <= ANCHOR_PULL_TOLERANCE * res.total_weight_n:
+            return replace(res, config=config)
+        edge = tipping_edge(lay)
+        arm = edge - float(lay.supports[rear].point_m[0])  # > 0: the anchor is behind the edge
+        restoring, overturning = _moments(lay, res.com_m[:, 0], edge)
+        tf = max(0.0, restoring - pull * arm) / overturning if overturning > 0 else 0.0
+        return replace(res, config=config, tipping_factor=min(tf, res.tipping_factor), anchor_pull_n=pull)
+    return None
+
+
+#: An anchored rear pulling less than this fraction of the structure's weight counts as carrying
+#: nothing (the contact's smoothing leaves a residual of millinewtons).
+ANCHOR_PULL_TOLERANCE = 1e-4
+
+
+def _moments(lay: Layout, com_x: np.ndarray, edge_x: float) -> tuple[float, float]:
+    """Gravity moments (N m) about ``edge_x``: of the bodies behind it (restoring) and beyond it."""
+    arm = edge_x - np.asarray(com_x)
+    w = np.array([b.mass_kg for b in lay.bodies]) * GRAVITY
+    return float(np.sum(w * np.clip(arm, 0, None))), float(np.sum(w * np.clip(-arm, 0, None)))
 
 
 #: A converged state with a body turned further than this (rad) is spurious: upside down.
@@ -460,7 +514,8 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
         mbd = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[s.body], localPosition=local(s.body, s.point_m)))
         kz = kc * lay.bodies[s.body].count  # contact stiffness per robot standing on the ledge
         kx = kz if (i == rearmost or config.clamped) else 0.0
-        extra = {} if config.clamped else {"springForceUserFunction": contact}
+        bilateral = config.clamped or (config.anchored and i == rearmost)
+        extra = {} if bilateral else {"springForceUserFunction": contact}
         mbs.AddObject(ObjectConnectorCartesianSpringDamper(markerNumbers=[mg, mbd], stiffness=[kx, kz, 0.0],
                                                            damping=[0.0, 0.0, 0.0], offset=offset, **extra))
     mbs.Assemble()
@@ -515,7 +570,8 @@ def _result(config: Config, lay: Layout, q: np.ndarray, robot: RobotProperties, 
     tip = float(drop[lay.front_body, 1])
     jr = np.array([phi[cp.b] - phi[cp.a] for cp in lay.couplings if cp.role == "front_rear"])
     reac = []
-    for sp in lay.supports:
+    rearmost = min(range(len(lay.supports)), key=lambda i: lay.supports[i].point_m[0]) if lay.supports else -1
+    for k, sp in enumerate(lay.supports):
         b = lay.bodies[sp.body]
         lx = sp.point_m[0] - b.com_m[0]
         lz = sp.point_m[1] - b.com_m[1]
@@ -523,7 +579,8 @@ def _result(config: Config, lay: Layout, q: np.ndarray, robot: RobotProperties, 
         z = com[i, 1] + s[i] * lx + c[i] * lz
         dz = z - sp.point_m[1] - (qp[sp.pier, 1] if sp.pier is not None else 0.0)
         e = CONTACT_SMOOTHING_M
-        reac.append(-kc * b.count * (dz if config.clamped else 0.5 * (dz - math.sqrt(dz * dz + e * e))))
+        bilateral = config.clamped or (config.anchored and k == rearmost)
+        reac.append(-kc * b.count * (dz if bilateral else 0.5 * (dz - math.sqrt(dz * dz + e * e))))
     tf = tipping_factor(lay.bodies, com[:, 0], tipping_edge(lay)) if config.phase == "cantilever" else math.inf
     result = StaticResult(config, lay, com, phi, under, tip, float(drop.max()), jr, np.array(reac), tf,
                           sum(b.count for b in lay.bodies), tuple(float(-z) for z in qp[:, 1]))

@@ -178,7 +178,12 @@ def situation(st: Structure, p: Params, free_available: bool, dock_ok: bool, pie
         from .piers import move_ok, stable_at
 
         f0 = st.front_s_cm
-        can_advance = launch_ok and not partial and not span_blocked and move_ok(st, p, f0, f0 + L, n)
+        # before landing the rear row stays on the initial ground (the pier rule's derivation keeps
+        # at least one row on the near ledge in every state it checked): a line that advanced its
+        # rear off the ledge could no longer dock a recruit, and one short of the far ledge retreated
+        keeps_rear = st.landed or f0 + L - (n_all - 1) * L <= EPS
+        can_advance = (launch_ok and not partial and not span_blocked and keeps_rear
+                       and move_ok(st, p, f0, f0 + L, n))
         wo_front_ok = n <= 1 or stable_at(st, p, f0 - L, n - 1)
         wo_rear_ok = stable_at(st, p, f0, n) if short_rear else (n <= 1 or stable_at(st, p, f0, n - 1))
         if st.retreating and not short_rear and n > 1:

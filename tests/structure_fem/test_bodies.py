@@ -56,11 +56,19 @@ def test_a_section_without_its_source_is_refused(make_robot):
         replace(make_robot(), body_second_moment_m4=CUBOT_I_M4)
 
 
-@pytest.mark.parametrize("k", [200.0, 2.0e4])
+@pytest.mark.parametrize("k", [200.0, 2.0e4, "cubot"])
 def test_flexible_tends_to_rigid_as_the_modulus_grows(make_robot, k):
-    """Same couplings, same geometry: the bodies' modulus x10^4 leaves only the couplings."""
-    robot = _with_section(make_robot(k=k, k_ax=1e9))
-    conn = ConnectorSet.from_robot(robot)
+    """Same couplings, same geometry: the bodies' modulus x10^4 leaves only the couplings. Test
+    robots (joints as springs, the lumped hinge: a 200 N m/rad joint with 1e9 N/m pins has no
+    pin rows to speak of) and the packaged CuBot with the emergent hinge."""
+    if k == "cubot":
+        from cubot_cad.properties import default_properties
+
+        robot = default_properties().get("cubot")
+        conn = replace(ConnectorSet.from_robot(robot), hinge="emergent")
+    else:
+        robot = _with_section(make_robot(k=k, k_ax=1e9))
+        conn = replace(ConnectorSet.from_robot(robot), hinge="lumped")
     cfg = Config(Structure("line"), 6, 5, 5, clamped=True)
     opts = SolverOptions(contact_n_per_m=1e9)
     rigid = solve(cfg, robot, conn, options=opts).tip_deflection_m
@@ -80,7 +88,7 @@ def test_lumped_bodies_against_exudyn_ancf_beams_at_cubot_like_joints(make_robot
     from structure_fem.beams import flexible_line_tip
 
     robot = _with_section(make_robot(k=k, k_ax=1e9))
-    conn = ConnectorSet.from_robot(robot)
+    conn = replace(ConnectorSet.from_robot(robot), hinge="lumped")  # joints as springs: the bodies are the subject
     opts = SolverOptions(contact_n_per_m=1e9)
     for n in (3, 5):
         cfg = Config(Structure("line"), n + 1, n, n, clamped=True)
@@ -101,7 +109,7 @@ def test_lumped_bodies_overcount_the_body_share_as_the_closed_form_says(make_rob
 
     k = 2.0e4
     robot = _with_section(make_robot(k=k, k_ax=1e9))
-    conn = ConnectorSet.from_robot(robot)
+    conn = replace(ConnectorSet.from_robot(robot), hinge="lumped")  # joints as springs: the bodies are the subject
     opts = SolverOptions(contact_n_per_m=1e9)
     for n in (3, 5):
         cfg = Config(Structure("line"), n + 1, n, n, clamped=True)

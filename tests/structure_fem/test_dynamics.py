@@ -3,6 +3,8 @@ transients' trends on the shipped CuBot record."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import math
 
 import pytest
@@ -40,10 +42,12 @@ def line3(request):
 
 
 def test_support_loss_amplification_decreases_with_damping(line3):
-    """Without play (every coupling's play set to zero) the line is an elastic structure on its
-    contacts: the step's dynamic load factor and the overshoot fall as the damping grows."""
+    """Without play (every coupling's play set to zero) the line with lumped joints is an elastic
+    structure on its contacts (the emergent joint is bilinear even then: its rows bear in tension,
+    its faces in compression, so the increment's load factor is not a linear one): the step's
+    dynamic load factor and the overshoot fall as the damping grows."""
     robot, _st = line3
-    conn = ConnectorSet.from_robot(robot).scaled(1.0, 0.0)
+    conn = replace(ConnectorSet.from_robot(robot).scaled(1.0, 0.0), hinge="lumped")
     st = solve(Config(LINE, 7, 3, 3), robot, conn)
     res = [D.launch_transient(LINE, 3, robot, "support_loss", z, static=st, connectors=conn)
            for z in (0.0, 0.02, 0.05, 0.2)]
@@ -77,12 +81,19 @@ def test_support_loss_settles_to_the_static_solution(line3):
     assert r.pivot_shift_m > 0
 
 
-def test_no_event_no_motion(line3):
+@pytest.mark.parametrize("hinge,tol_m", [("lumped", 1e-6), ("emergent", 2e-5)])
+def test_no_event_no_motion(line3, hinge, tol_m):
     """The model's static solution is an equilibrium of the dynamic system: a docking at speed 0
-    leaves the tip where it is (to 1e-6 m)."""
-    robot, st = line3
-    r = D.launch_transient(LINE, 3, robot, "docking", static=st, docking_speed_m_s=0.0)
-    assert abs(r.tip_history_m - st.tip_deflection_m).max() < 1e-6
+    leaves the tip where it is. Measured drift: 4e-8 m with the lumped hinge, 5e-6 m with the
+    emergent one (its cause not isolated: the emergent joints rest inside their play on their weak
+    in-play springs, where the static solver's tolerance leaves most displacement). A model
+    mismatch between the static and dynamic builds shows in millimetres (the allowances are
+    0.6-1.5 mm); 2e-5 m is 0.15 % of the 12.8 mm tip."""
+    robot, _st = line3
+    conn = replace(ConnectorSet.from_robot(robot), hinge=hinge)
+    st = solve(Config(LINE, 7, 3, 3), robot, conn)
+    r = D.launch_transient(LINE, 3, robot, "docking", static=st, docking_speed_m_s=0.0, connectors=conn)
+    assert abs(r.tip_history_m - st.tip_deflection_m).max() < tol_m
 
 
 def test_time_step_from_first_mode(line3):

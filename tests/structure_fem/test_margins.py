@@ -51,8 +51,15 @@ def test_the_decomposition_sums_to_the_tip_within_one_percent(line_report):
 
 def test_the_line_is_set_by_play(line_report):
     """With the CAD's 0.4 mm tension gap over a 37 mm lever, the line's tip at its threshold is
-    mostly play (the issue's review found 13.9 of 14.87 mm with half that play)."""
-    assert line_report["set_by"] == "play" and line_report["set_by_share"] > 0.5
+    mostly play (the issue's review found 13.9 of 14.87 mm with half that play). Where the launch
+    allowance took a width off the static threshold (the emergent hinge's line: static 3, 2), that
+    is what sets it, and the report says so."""
+    d = line_report["decomposition"]
+    assert d["play_mm"] > 0.5 * d["tip_mm"]
+    if line_report["threshold"] < line_report["static_threshold"]:
+        assert line_report["set_by"] == "dynamic"
+    else:
+        assert line_report["set_by"] == "play" and line_report["set_by_share"] > 0.5
 
 
 def test_the_range_brackets_the_threshold_and_goes_the_physical_way(line_report):
@@ -80,8 +87,12 @@ def test_the_range_uses_the_tables_criterion_with_each_variants_own_transients(l
         if v["threshold"] >= 1:
             assert v["dynamic_allowance_mm"] > 0
     # the loose print's play makes the structure fall farther through its joints: a larger overshoot
+    # at the same width (at a narrower one it can be smaller: fewer rows over the void fall)
     by = {v["inputs"]: v for v in rg["variants"]}
-    assert by["print clearance 0.4 mm"]["dynamic_allowance_mm"] > by["print clearance 0.1 mm"]["dynamic_allowance_mm"]
+    loose, tight = by["print clearance 0.4 mm"], by["print clearance 0.1 mm"]
+    assert loose["threshold"] <= tight["threshold"]
+    if loose["threshold"] == tight["threshold"]:
+        assert loose["dynamic_allowance_mm"] > tight["dynamic_allowance_mm"]
 
 
 def test_the_infill_variant_is_the_records_solid_mass_and_moves_with_it():

@@ -242,12 +242,13 @@ FINE_PLAIN = _fine_plain()
 def _calibrated_cubot_inputs():
     from structure_fem.runs import RunOptions, make_inputs
 
-    inp, _ = make_inputs(RunOptions(connectors="calibrated", dynamic=False))
+    inp, _ = make_inputs(RunOptions(connectors="calibrated", dynamic=False, hinge="lumped"))
     return inp
 
 
 def test_root_cause_plain_gravity_ramp_stalls_and_the_smoothing_continuation_converges():
-    """The reported kind of configuration (calibrated CuBot couplings, a long line cantilevered
+    """The lumped model's dead bands (``hinge="lumped"``, where the continuation was found
+    necessary). The reported kind of configuration (calibrated CuBot couplings, a long line cantilevered
     half over the void): a plain 8-step ramp stalls in the dead bands for some of them (which
     ones moves with the record's mass, play and supports: 15 rows / 7 over a 7-wide void stalled
     before the CAD's lead-ins and bosses changed the mass, 13 / 6 / 6 after; with the supports at
@@ -288,10 +289,12 @@ def test_smoothing_continuation_does_not_change_a_converged_solution(cubot, stru
     the model's at load factor 1): the derived thresholds at the default inputs stay as they were.
     Where the plain 8-step ramp stalls the reference is the plain 1000-step ramp (on the line at
     w = 5 both stall since the supports sit at the wheel and caster contacts: it is checked at 4)."""
+    from dataclasses import replace
+
     from structure_fem.connectors import ConnectorSet
     from structure_fem.model import Config, SolverOptions, _solve_once
 
-    conn = ConnectorSet.from_robot(cubot)
+    conn = replace(ConnectorSet.from_robot(cubot), hinge="lumped")
     cfg = Config(structure, 2 * w + 1, w, w)
     try:
         plain = _solve_once(cfg, cubot, conn, SolverOptions(smoothing_start=0.0))
@@ -300,6 +303,96 @@ def test_smoothing_continuation_does_not_change_a_converged_solution(cubot, stru
     cont = _solve_once(cfg, cubot, conn, SolverOptions())
     assert cont.tip_deflection_mm == pytest.approx(plain.tip_deflection_mm, rel=1e-7)
     assert cont.joint_rotation_rad == pytest.approx(plain.joint_rotation_rad, rel=1e-6, abs=1e-9)
+
+
+@pytest.mark.parametrize("structure,w", [(Structure("line"), 4), (Structure("arch", 4, 2, "staggered"), 6)])
+def test_emergent_hinge_state_does_not_depend_on_the_continuation_path(cubot, structure, w):
+    """The emergent hinge: neither a plain ramp nor a fine one converges through its play-free
+    contacts' kinks, so the reference is the continuation from another start and with another
+    relaxation: the same state (the smoothing is the model's at load factor 1)."""
+    from dataclasses import replace
+
+    from structure_fem.connectors import ConnectorSet
+    from structure_fem.model import Config, SolverOptions, _solve_once
+
+    conn = replace(ConnectorSet.from_robot(cubot), hinge="emergent")
+    cfg = Config(structure, 2 * w + 1, w, w)
+    a = _solve_once(cfg, cubot, conn, SolverOptions())
+    b = _solve_once(cfg, cubot, conn, SolverOptions(smoothing_start=10.0 / 3.0, smoothing_power=10, load_steps=32))
+    assert a.tip_deflection_mm == pytest.approx(b.tip_deflection_mm, rel=1e-6)
+    assert a.joint_rotation_rad == pytest.approx(b.joint_rotation_rad, rel=1e-5, abs=1e-8)
+
+
+def _pier_line(cubot, rows, hinge, play=1.0, mass=1.0):
+    from dataclasses import replace
+
+    from structure_fem.connectors import ConnectorSet
+    from structure_fem.model import Config
+    from structure_fem.piers import robot_pier
+
+    robot = cubot.with_mass_scaled(mass) if mass != 1.0 else cubot
+    conn = replace(ConnectorSet.from_robot(robot).scaled(1.0, play), hinge=hinge)
+    return Config(Structure("line"), rows, 19, 19, piers=(robot_pier(robot, conn, 1, 8),)), robot, conn
+
+
+@pytest.mark.parametrize("hinge", ["lumped", "emergent"])
+def test_a_structure_that_tips_is_reported_as_tipping_not_as_a_solver_failure(cubot, hinge):
+    """20 rows over a 19-wide void resting on a one-robot pier at 8: 10 rows behind the pier's far
+    face, 10 beyond, rigid tipping factor 0.94 about the pier's front contact. The free structure
+    has no equilibrium, and every retry of the solver failed: a caller that asks for such a state
+    (the crossing states of the pier rule have no rigid pre-check) got a non-convergence. The solve
+    now anchors the rear support, finds the anchor pulling, and reports the state with a tipping
+    factor below 1; two more rows behind stand, and the anchor is not used."""
+    from structure_fem.model import SolverOptions, _flexible, _solve_once, solve_uncached
+    from structure_fem.structures import layout, rigid_tipping
+
+    cfg, robot, conn = _pier_line(cubot, 20, hinge)
+    lay = layout(cfg.structure, robot, conn, cfg.rows, cfg.rows_over, cfg.void_widths, piers=cfg.piers)
+    assert rigid_tipping(lay) < 1.0
+    with pytest.raises(SolverFailure):
+        _solve_once(cfg, robot, _flexible(conn, robot), SolverOptions())
+    res = solve_uncached(cfg, robot, conn, flexible=True)
+    assert res.anchor_pull_n > 0.01 * res.total_weight_n
+    assert 0 <= res.tipping_factor < 1
+    assert res.config == cfg  # reported as the configuration asked for, not the anchored one
+    stands = solve_uncached(_pier_line(cubot, 22, hinge)[0], robot, conn, flexible=True)
+    assert stands.anchor_pull_n == 0 and stands.tipping_factor > 1
+
+
+def test_an_anchored_solve_that_the_anchor_does_not_pull_is_the_free_solution(cubot, monkeypatch):
+    """When only the anchored solve converges and its rear support pushes, every one-sided contact
+    is in compression: it is an equilibrium of the free structure, the same state (checked on a
+    line the free solver does solve, with the free attempts made to fail)."""
+    import structure_fem.model as model
+    from structure_fem.connectors import ConnectorSet
+
+    conn = ConnectorSet.from_robot(cubot)
+    cfg = model.Config(Structure("line"), 7, 3, 3)
+    free = model.solve_uncached(cfg, cubot, conn)
+    once = model._solve_once
+
+    def only_anchored(config, *a, **kw):
+        if not config.anchored:
+            raise SolverFailure("made to fail")
+        return once(config, *a, **kw)
+
+    monkeypatch.setattr(model, "_solve_once", only_anchored)
+    got = model.solve_uncached(cfg, cubot, conn)
+    assert got.anchor_pull_n == 0 and got.config == cfg
+    assert got.tip_deflection_mm == pytest.approx(free.tip_deflection_mm, rel=1e-6)
+    assert got.tipping_factor == pytest.approx(free.tipping_factor, rel=1e-6)
+
+
+def test_a_play_free_emergent_line_on_a_pier_converges(cubot):
+    """x0 play, x0.5 mass, 21 rows over a 19-wide void on a pier at 8 (it stands): every retry
+    failed while the faces' contacts were smoothed over their own (30x stiffer) stretch rather
+    than the rows' (``hinge._contact_scale``)."""
+    from structure_fem.model import solve_uncached
+
+    cfg, robot, conn = _pier_line(cubot, 21, "emergent", play=0.0, mass=0.5)
+    res = solve_uncached(cfg, robot, conn, flexible=True)
+    assert res.anchor_pull_n == 0 and res.tipping_factor > 1
+    assert res.reactions_n.sum() == pytest.approx(res.total_weight_n, rel=1e-4)
 
 
 # --------------------------------------------------------------------------- bad input stays exit 2

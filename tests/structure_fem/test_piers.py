@@ -167,15 +167,20 @@ def test_the_rule_moves_when_the_inputs_move(inp, base):
     soft = derive(PierStudy(soft_inp, own_level(soft_inp), max_pier_robots=2))
     assert heavy.rule != base.rule and soft.rule != base.rule
 
-    def beyond(d, k):  # the deepest overhang state beyond the first pier of k robots
+    def beyond(d, k, o=None):  # the state o rows (default: the deepest overhang) beyond the first pier of k robots
         c = d.crossings[k - 1]
-        return next(st for st in c.states_one if st.what == f"{c.overhang} rows beyond pier 1")
+        o = c.overhang if o is None else o
+        return next(st for st in c.states_one if st.what == f"{o} rows beyond pier 1")
 
-    assert heavy.rule.max_deflection_mm > base.rule.max_deflection_mm
-    assert beyond(heavy, 2).pier_compression_mm[0] > 1.5 * beyond(base, 2).pier_compression_mm[0]
+    # heavier: never more overhang, and at the same state (the heavy rule's deepest, which the
+    # base crossing also goes through) a deeper tip and a pier pressed twice as hard
+    o = heavy.crossings[1].overhang
+    assert heavy.rule.overhang_widths[1] <= base.rule.overhang_widths[1]
+    assert beyond(heavy, 2).tip_mm > beyond(base, 2, o).tip_mm
+    assert beyond(heavy, 2).pier_compression_mm[0] > 1.5 * beyond(base, 2, o).pier_compression_mm[0]
     assert soft.rule.pier_stiffness_n_per_m[1] == pytest.approx(0.5 * base.rule.pier_stiffness_n_per_m[1], rel=0.02)
     assert soft.rule.overhang_widths[1] <= base.rule.overhang_widths[1]
-    assert beyond(soft, 2).tip_mm > beyond(base, 2).tip_mm
+    assert beyond(soft, 2).tip_mm > beyond(base, 2, soft.crossings[1].overhang).tip_mm
 
 
 def test_the_record_carries_the_rule_and_round_trips(tmp_path, base, first_span):

@@ -85,6 +85,40 @@ def test_the_crossing_moves_with_the_records_overhang():
     assert res5.success and res5.robots_in_piers >= 1
 
 
+def _first_span_two(lim):
+    """The record with the line's span cut to 2 and the pier rule of a 2-wide first span (what the
+    emergent hinge's mechanics derived on 2026-12-04: line 2, one pier of 2 robots at 2 carrying it
+    3 further, to 6); the 4 x 2 arch takes over from 3 so the levels still tile the widths."""
+    levels = []
+    for lv in lim.levels:
+        if lv.kind == "line":
+            lv = dataclasses.replace(lv, max_span_widths=2, min_robots=lv.min_robots[:2])
+        elif lv.min_span_widths == lim.level_for(1).max_span_widths + 1:
+            lv = dataclasses.replace(lv, min_span_widths=3, min_robots=(lv.min_robots[0],) + lv.min_robots)
+        levels.append(lv)
+    piers = dataclasses.replace(lim.piers, first_span_widths=2, overhang_widths=(3,) * 4,
+                                overhang_widths_two_piers=(3,) * 4, max_void_widths=(6,) * 4)
+    return dataclasses.replace(lim, levels=tuple(levels), piers=piers)
+
+
+def test_a_two_wide_first_span_crosses_on_its_pier_without_leaving_the_near_ledge():
+    """First span 2: the pier stands at 2 widths, right beyond a line of 5 (4 on the ground, 1
+    over). Advancing onto it, the line used to walk its rear off the near ledge (the rule beyond
+    the pier still held), where no recruit can dock, and retreat 3 rows short. Before landing an
+    advance now keeps the rear row on the initial ground (as the pier rule's derivation does in
+    every state), so the line recruits as it goes and crosses."""
+    lim = _first_span_two(load_limits("derived"))
+    p = pier_params(6, limits=lim)
+    assert p.pier_robots == 2 and p.pier_overhang_widths == 3 and p.level_name == "line"
+    world, res = simulate(p, 1, check=True)
+    assert res.success and res.end_reason == "crossed", res.end_reason
+    assert res.robots_in_piers == 2 and res.robots_lost == 0 and not res.violations
+    kinds = [k for _t, k, _r, _d in res.events]
+    landed = kinds.index("far_ledge")
+    assert "recruit" in kinds[kinds.index("pier_complete"):landed]  # it recruits over the pier
+    assert "retreat" not in kinds
+
+
 def test_too_few_failed_robots_start_no_pier():
     res = run_scenario("pier", 20, 6, 1, faults="0@0:drive", check_invariants=True)
     assert res.end_reason == "retreated-span" and res.robots_in_piers == 0
