@@ -164,9 +164,9 @@ class ConnectorSet:
     side_rail: Joint | None = None
     top_twist: Joint | None = None
     #: How a coupling whose faces touch is modelled (:data:`structure_fem.hinge.HINGES`):
-    #: ``"lumped"`` (one point spring + a pitch dead band of tension play / highest pin, the
-    #: packaged record's model) or ``"emergent"`` (tension rows + compression-only face contacts).
-    hinge: str = "lumped"
+    #: ``"emergent"`` (tension rows + compression-only face contacts: the default and the packaged
+    #: record's model) or ``"lumped"`` (one point spring + a pitch dead band of tension play / highest pin).
+    hinge: str = "emergent"
 
     def __post_init__(self) -> None:
         from .hinge import HINGES

@@ -1,11 +1,11 @@
 """Couplings whose faces touch, built from their parts so the hinge emerges (issue 12, item 2; SI).
 
-The lumped model (``hinge="lumped"``, still the default and the packaged record's) lumps every
+The lumped model (``hinge="lumped"``, ``--hinge lumped``; the default until 2026-12-04) lumps every
 coupling at one point: a translational
 spring with the record's play per axis plus a rotational spring with a *pitch dead band* of
 ``tension play / highest pin``. That dead band is a separate number standing for a mechanism:
 the joint turns about the edge where the faces press together until the pins' tension play is
-taken up. Here (``hinge="emergent"``, ``--hinge emergent``) a coupling whose faces touch is modelled by
+taken up. Here (``hinge="emergent"``, the default and the packaged record's) a coupling whose faces touch is modelled by
 what carries the load, each with its own play from the CAD, and the hinge, its rotational play
 and the composite action of stacked layers come out of the solve:
 

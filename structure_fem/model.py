@@ -6,9 +6,9 @@
   is an ``ObjectRigidBody2D`` at its centre of mass with the robots' summed
   mass and pitch inertia Iyy from ``robot_properties.json``;
 * a coupling whose faces touch (the CuBot's front-rear coupling, every layer's twist-lock) is,
-  with ``ConnectorSet.hinge == "emergent"``, built from its parts by :mod:`structure_fem.hinge`: tension rows with their play
+  with ``ConnectorSet.hinge == "emergent"`` (the default), built from its parts by :mod:`structure_fem.hinge`: tension rows with their play
   and compression-only face contacts, so its hinge and rotational play emerge. Otherwise
-  (``"lumped"``, the default, and the couplings whose faces do not touch)
+  (``"lumped"``, and the couplings whose faces do not touch)
   each coupling is a *penalty* connector, because Lagrange-multiplier joints
   stop converging once rotations grow (toolchain notes): an
   ``ObjectConnectorCartesianSpringDamper`` for the pin (axial stiffness in

@@ -81,7 +81,7 @@ class RunOptions:
     #: (the default): the grid by the static tip, labelled so.
     sensitivity_dynamic: bool = False
     #: How couplings whose faces touch are modelled (:data:`structure_fem.hinge.HINGES`; ``--hinge``).
-    hinge: str = "lumped"
+    hinge: str = "emergent"
 
     def __post_init__(self) -> None:
         from .hinge import HINGES

@@ -253,7 +253,7 @@ class Layout:
     #: front-rear coupling's faces span it (the emergent hinge's top edge, :mod:`structure_fem.hinge`).
     height_m: float = 0.0
     #: How couplings whose faces touch are modelled (``ConnectorSet.hinge``).
-    hinge: str = "lumped"
+    hinge: str = "emergent"
 
     def pier_range_m(self, i: int) -> tuple[float, float]:
         return self.piers[i].x_range_m(self.pitch_m, self.length_m)

@@ -261,7 +261,7 @@ def test_a_goal_where_the_static_grid_is_blocked_is_scipys_too(monkeypatch):
     from swarm_sim import navigation as N
     from swarm_sim.world import World
 
-    world = World.from_params(resolve_params("large-void", 70, 8, "derived"))
+    world = World.from_params(resolve_params("large-void", 70, 8, "thesis"))  # the arena, any record
     g = N.nav_grid(world)
     blocked = np.flatnonzero(~g.free)
     rng = np.random.default_rng(3)

@@ -2,6 +2,8 @@
 
 import pytest
 
+from structure_fem.limits import load_limits
+
 from swarm_sim.errors import InputError
 from swarm_sim.runner import resolve_params, run_scenario, simulate
 
@@ -98,12 +100,14 @@ def test_a_blind_robot_never_seeds_nor_finds_the_target():
 
 
 def test_a_failed_front_robot_is_pushed_onto_the_target_ground():
-    base = run_scenario("case-d", 12, 3, 3)
+    # a void the derived line crosses with 12 robots (its span, at most 3): it releases at the front
+    w = min(3, load_limits("derived").level_for(1).max_span_widths)
+    base = run_scenario("case-d", 12, w, 3)
     rel = next(e for e in base.events if e[1] == "release_front")
     r = rel[3]["robots"][0]
-    res = run(f"{r}@{rel[0] - 0.5}:drive")
+    res = run(f"{r}@{rel[0] - 0.5}:drive", width=w)
     push = [e for e in kinds(res, "pushed_clear") if e[2] == r]
-    assert push and push[0][3]["x_cm"] > resolve_params("case-d", 12, 3).void_x1_cm
+    assert push and push[0][3]["x_cm"] > resolve_params("case-d", 12, w).void_x1_cm
     assert res.robots_lost == 0 and not res.violations
 
 

@@ -71,11 +71,11 @@ def _add_inputs(p: argparse.ArgumentParser) -> None:
                            "cached by input hash (cold: 1-120 s per structure; the packaged record's are shipped)")
     crit.add_argument("--static", dest="dynamic", action="store_false",
                       help="threshold = static tip <= clearance (no launch transients)")
-    g.add_argument("--hinge", choices=("lumped", "emergent"), default="lumped",
-                   help="couplings whose faces touch (the CuBot's front-rear, every layer's twist-lock): one "
-                        "point spring + a pitch dead band of tension play / highest pin, side rails tie along x "
-                        "(lumped, the default and the packaged record's); or tension rows with their play + "
-                        "compression-only face contacts, sliding side rails: the hinge emerges (emergent)")
+    g.add_argument("--hinge", choices=("lumped", "emergent"), default="emergent",
+                   help="couplings whose faces touch (the CuBot's front-rear, every layer's twist-lock): "
+                        "tension rows with their play + compression-only face contacts, sliding side rails: "
+                        "the hinge emerges (emergent, the default and the packaged record's); or one point "
+                        "spring + a pitch dead band of tension play / highest pin, side rails tie along x (lumped)")
     g.add_argument("--damping-ratio", type=float, default=0.02, metavar="Z",
                    help="first-mode damping ratio of the launch transients (default 0.02, an assumption: "
                         "printed ABS/PLA 0.5-2.5 %% plus joint friction)")
@@ -111,7 +111,7 @@ def _opts(args):
                       piers=getattr(args, "piers_rule", "auto"), dynamic=getattr(args, "dynamic", True),
                       damping_ratio=getattr(args, "damping_ratio", 0.02),
                       sensitivity_dynamic=getattr(args, "sensitivity_dynamic", False),
-                      hinge=getattr(args, "hinge", "lumped"))
+                      hinge=getattr(args, "hinge", "emergent"))
 
 
 def _bar(iterable, desc, total):
