@@ -73,28 +73,31 @@ def test_the_widest_void_is_the_records_first_span_pier_and_overhang():
 
 
 def test_the_crossing_moves_with_the_records_overhang():
+    """The record's overhang cut to 1: the pier (one width, right after the first span f) carries
+    the line to f + 2, and a void one wider is a retreat at the span."""
     lim = load_limits("derived")
+    f = lim.piers.first_span_widths
     short = dataclasses.replace(lim, piers=dataclasses.replace(
         lim.piers, overhang_widths=(1,) * 4, overhang_widths_two_piers=(0,) * 4,
-        max_void_widths=(lim.piers.first_span_widths + 2,) * 4))
-    p6 = pier_params(6, limits=short)
-    assert p6.pier_overhang_widths == 1
-    _, res = simulate(p6, 1, check=True)
+        max_void_widths=(f + 2,) * 4))
+    wide = pier_params(f + 3, limits=short)
+    assert wide.pier_overhang_widths == 1
+    _, res = simulate(wide, 1, check=True)
     assert res.end_reason == "retreated-span" and res.robots_lost == 0 and not res.violations
-    _, res5 = simulate(pier_params(5, limits=short), 1, check=True)
-    assert res5.success and res5.robots_in_piers >= 1
+    _, res_in = simulate(pier_params(f + 2, limits=short), 1, check=True)
+    assert res_in.success and res_in.robots_in_piers >= 1
 
 
 def _first_span_two(lim):
     """The record with the line's span cut to 2 and the pier rule of a 2-wide first span (what the
     emergent hinge's mechanics derived on 2026-12-04: line 2, one pier of 2 robots at 2 carrying it
     3 further, to 6); the 4 x 2 arch takes over from 3 so the levels still tile the widths."""
-    levels = []
+    levels, span = [], lim.level_for(1).max_span_widths
     for lv in lim.levels:
         if lv.kind == "line":
             lv = dataclasses.replace(lv, max_span_widths=2, min_robots=lv.min_robots[:2])
-        elif lv.min_span_widths == lim.level_for(1).max_span_widths + 1:
-            lv = dataclasses.replace(lv, min_span_widths=3, min_robots=(lv.min_robots[0],) + lv.min_robots)
+        elif lv.min_span_widths == span + 1 and span > 2:  # the next level takes over the widths cut
+            lv = dataclasses.replace(lv, min_span_widths=3, min_robots=(lv.min_robots[0],) * (span - 2) + lv.min_robots)
         levels.append(lv)
     piers = dataclasses.replace(lim.piers, first_span_widths=2, overhang_widths=(3,) * 4,
                                 overhang_widths_two_piers=(3,) * 4, max_void_widths=(6,) * 4)
