@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 
@@ -80,8 +82,26 @@ def test_pipeline_stage_sets_the_context(tmp_path, pairs):
     assert slicer_path() is not None, "make's clients target installs prusa-slicer"
     assert "sliced masses" in line
     got = RobotPropertiesFile.load(ctx["robot_properties"]).get("cubot")
-    assert to_jsonable(got) == to_jsonable(default_properties().get("cubot"))
+    # the same record; floats to 1e-12: the CAD kernel's mass properties differ in their last bit
+    # from run to run (seen: inertia 4.551733319049401e-4 against ...4007e-4)
+    _assert_same_record(to_jsonable(got), to_jsonable(default_properties().get("cubot")))
     assert f"CuBot record {1e3 * got.mass_kg:.1f} g" in line  # the mass the structure study uses
+
+
+def _assert_same_record(a, b, path="record"):
+    if isinstance(a, float) or isinstance(b, float):
+        assert isinstance(a, (int, float)) and isinstance(b, (int, float)), (path, a, b)
+        assert math.isclose(a, b, rel_tol=1e-12, abs_tol=1e-18), (path, a, b)
+    elif isinstance(a, dict):
+        assert isinstance(b, dict) and a.keys() == b.keys(), (path, a, b)
+        for k in a:
+            _assert_same_record(a[k], b[k], f"{path}.{k}")
+    elif isinstance(a, (list, tuple)):
+        assert isinstance(b, (list, tuple)) and len(a) == len(b), (path, a, b)
+        for i, (x, y) in enumerate(zip(a, b)):
+            _assert_same_record(x, y, f"{path}[{i}]")
+    else:
+        assert a == b, (path, a, b)
 
 
 # --- the clearance range on the command line -------------------------------------------------

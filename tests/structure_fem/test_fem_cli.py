@@ -202,10 +202,16 @@ def test_bodies_are_flexible_by_default_and_rigid_on_request():
         p.parse_args(["fem", "table", "--rigid", "--flexible"])
 
 
-def test_the_hinge_model_is_a_choice_and_the_lumped_one_is_the_earlier_model(cli, tmp_path):
+def test_the_hinge_model_is_a_choice_and_the_lumped_one_is_the_earlier_model(cli, tmp_path, monkeypatch):
     """``--hinge emergent`` against the default lumped one (one point spring + a dead band, side
     rails as ties) on the packaged CuBot, static criterion: the staggered arches lose the rails'
-    tie, and the record says which model it derived with."""
+    tie, and the record says which model it derived with. Without the thesis's tapering arches
+    (their widest widths do not converge under the emergent hinge and cost minutes of retries;
+    they are not what this test is about)."""
+    import structure_fem.runs as runs
+
+    monkeypatch.setattr(runs, "tapered_arches", lambda d, thesis=None, progress=None: [])
+
     def run(name, *extra):
         res = cli("fem", "table", "--static", "--json", "--max-width", "8", "--out", str(tmp_path / name), *extra)
         assert res.code == 0, res.err
