@@ -31,7 +31,7 @@ EPILOG = """examples:
   voidcross pipeline                    CAD export, structure table, simulations, report
   voidcross cad export --robot cubot    printable STL/STEP + manifest into exports/
   voidcross fem table --json            derived structure thresholds next to the thesis's
-  voidcross sim run --preset case-d --robots 9 --void-width 3 --seed 1 --json
+  voidcross sim run --preset case-d --robots 9 --void-width 2 --seed 1 --json
   voidcross sweep --preset case-d --robots 3-12 --void-width 1-3 --runs 5 --db results/d.sqlite
   voidcross report --db results/d.sqlite --out report/
 """

@@ -27,12 +27,12 @@ MAX_BENCH_ROBOTS = 1_000_000
 MAX_BENCH_STEPS = 1_000_000
 
 RUN_EPILOG = """examples:
-  voidcross sim run --preset case-d --robots 9 --void-width 3 --seed 1 --json
+  voidcross sim run --preset case-d --robots 9 --void-width 2 --seed 1 --json   (the derived line spans 2)
   voidcross sim run --preset case-c --robots 8 --void-width 3 --limits thesis   (retreats: 3w - 1)
   voidcross sim run --preset case-a --robots 8 --void-width 2 --limits thesis --video run.mp4
-  voidcross sim run --preset case-d --robots 9 --void-width 3 --snapshots snaps --out results/sim
+  voidcross sim run --preset case-d --robots 9 --void-width 3 --limits thesis --snapshots snaps --out results/sim
   voidcross sim run --preset large-void --robots 70 --void-width 8 --limits thesis   (line -> two lines)
-  voidcross sim run --preset large-void-8 --robots 306   (a wide void under the derived limits: line -> 4x2 -> 6x3 arches)
+  voidcross sim run --preset large-void-8 --void-width 6 --robots 416   (the derived widest void: line -> 4x2 -> 6x3 -> 8x4 arches)
   voidcross sim run --preset large-void-15 --robots 200 --void-width 15 --limits thesis   (tapering arch-15, ~4 s compiled)
   voidcross sim run --preset large-void-30 --robots 470 --void-width 30 --limits thesis   (tapering arch-30, ~15 s compiled)
   voidcross sim run --preset large-void-15 --limits thesis --snapshots snaps --frame-every 200   (side view: both feet)
