@@ -294,6 +294,13 @@ def _moments(lay: Layout, com_x: np.ndarray, edge_x: float) -> tuple[float, floa
 
 #: A converged state with a body turned further than this (rad) is spurious: upside down.
 MAX_BODY_ROTATION_RAD = 0.5 * math.pi
+#: ... or with two coupled bodies turned further than this (rad) relative to each other. A coupling
+#: turns by its play (10-15 mrad on the CuBot's front-rear pins) plus elastic milliradians; half a
+#: radian would stretch a pin 26.5 mm above the underside by 13 mm, tearing it out, and the
+#: penalty contacts (written for small relative turns) no longer keep the bodies apart. Found on
+#: the emergent hinge: a line one row short of standing "converged" to bodies turned +-90 deg,
+#: jack-knifed over the edge, with a tipping factor of 1.9 (tests/structure_fem/test_never_crash.py).
+MAX_JOINT_ROTATION_RAD = 0.5
 
 
 #: Compile the dead-band user functions to exudyn symbolic (C++) functions: same formula,
@@ -548,6 +555,10 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
     turn = float(np.max(np.abs(q[:nb].reshape(-1, 3)[:, 2]))) if nb else 0.0
     if turn > MAX_BODY_ROTATION_RAD:
         raise SolverFailure(f"static solve for {what} reached a spurious state (a body turned {turn:.3g} rad)")
+    phi = q[:nb].reshape(-1, 3)[:, 2]
+    opened = max((abs(float(phi[cp.b] - phi[cp.a])) for cp in lay.couplings), default=0.0)
+    if opened > MAX_JOINT_ROTATION_RAD:
+        raise SolverFailure(f"static solve for {what} reached a spurious state (a coupling turned {opened:.3g} rad)")
     return _result(config, lay, q, robot, kc)
 
 

@@ -26,6 +26,8 @@ import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from cubot_cad.properties import RobotProperties
 
 from .connectors import ConnectorSet
@@ -646,22 +648,40 @@ def tapered_structure(lvl: StructureLevel) -> Structure:
     return Structure("arch", lvl.lines, lvl.layers, "aligned", lvl.taper_block_rows)
 
 
-def tapered_point(s: Structure, w: int, inp: StudyInputs) -> dict:
-    """Tip and tipping factor at ``g = w`` before landing, largest deflection bridged (mm)."""
+#: A robot of a tapering arch turned further than this (rad, nose down) before landing: the arch
+#: hangs into the void, collapsed (at 0.5 rad its front is metres below the ledge; the thesis's
+#: arch-30 reaches it at 28 widths under the emergent hinge, tip 993 mm, a robot turned 0.81 rad).
+#: Wider voids of the same arch only add overhang, so :func:`tapered_arches` reports them as
+#: collapsed instead of solving them: their static solves did not converge and each cost minutes
+#: of retries on a 470-robot model.
+COLLAPSE_ROTATION_RAD = 0.5
+
+
+def tapered_point(s: Structure, w: int, inp: StudyInputs, collapsed: tuple[int, float] | None = None) -> dict:
+    """Tip and tipping factor at ``g = w`` before landing, largest deflection bridged (mm).
+
+    ``collapsed`` = (width, rad): the same arch already hung a robot that far at that narrower width
+    (:data:`COLLAPSE_ROTATION_RAD`): the state before landing is reported as collapsed, not solved.
+    ``max_rotation_rad`` is the largest turn of a robot before landing (None when not solved)."""
     foot = s.foot_rows
     before = Config(s, foot + w, w, w)
     need = inp.required_tipping * (1 + 1e-6)
-    out: dict = {"tip_mm": None, "tipping_factor": None, "bridged_max_mm": None, "note": "", "failures": []}
+    out: dict = {"tip_mm": None, "tipping_factor": None, "bridged_max_mm": None, "note": "", "failures": [],
+                 "max_rotation_rad": None}
     lay = layout(s, inp.robot, inp.connectors, before.rows, w, w)
     rigid = rigid_tipping(lay)
     out["tipping_factor"] = rigid
     if rigid <= need:
         out["note"] = f"tips before landing (rigid tipping factor {rigid:.3g})"
+    elif collapsed is not None:
+        out["note"] = (f"collapsed before landing: at {collapsed[0]} widths a robot of this arch already hung "
+                       f"{collapsed[1]:.2f} rad nose down; a wider void only adds overhang (not solved)")
     else:
         try:
             res = solve(before, inp.robot, inp.connectors, inp.flexible)
             out["tip_mm"] = res.tip_deflection_mm
             out["tipping_factor"] = res.tipping_factor
+            out["max_rotation_rad"] = float(np.max(np.abs(res.rotation_rad)))
         except SolverFailure as exc:
             out["note"] = "the static solve before landing did not converge (counted as not holding)"
             out["failures"].append(("before landing (core front at the far edge)", "counted as not holding",
@@ -706,9 +726,13 @@ def tapered_arches(d: Derivation, thesis: StructureLimits | None = None,
     it = jobs if progress is None else progress(jobs, "thesis tapering arches", len(jobs))
     by_name = {c.structure.name: c for c in d.curves}
     out = []
+    collapsed: dict[str, tuple[int, float]] = {}  # arch name -> (width, rad) where it first hung
     for lvl, w in it:
         s = tapered_structure(lvl)
-        p = tapered_point(s, w, inp)
+        p = tapered_point(s, w, inp, collapsed.get(s.name))
+        rot = p["max_rotation_rad"]
+        if rot is not None and rot > COLLAPSE_ROTATION_RAD and s.name not in collapsed:
+            collapsed[s.name] = (w, rot)
         d.other_failures.extend(NonConvergence(s.name, w, what, counted, reason)
                                 for what, counted, reason in p["failures"])
         band = next(((u, lo, hi) for u, lo, hi in d.levels if lo <= w <= hi), None)

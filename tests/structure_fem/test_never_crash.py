@@ -28,7 +28,9 @@ from __future__ import annotations
 import csv
 import json
 import math
+from dataclasses import replace
 
+import numpy as np
 import pytest
 
 pytest.importorskip("exudyn")
@@ -357,6 +359,26 @@ def test_a_structure_that_tips_is_reported_as_tipping_not_as_a_solver_failure(cu
     assert res.config == cfg  # reported as the configuration asked for, not the anchored one
     stands = solve_uncached(_pier_line(cubot, 22, hinge)[0], robot, conn, flexible=True)
     assert stands.anchor_pull_n == 0 and stands.tipping_factor > 1
+
+
+@pytest.mark.parametrize("hinge", ["lumped", "emergent"])
+def test_a_line_one_row_short_of_standing_tips_and_never_jack_knifes(make_robot, hinge):
+    """4 rows over a 2-wide void, 2 on the ledge: the rigid tipping factor is 1, the line cannot
+    stand. With the emergent hinge the solver "converged" to bodies turned +-90 deg relative to
+    each other (jack-knifed over the edge, tipping factor 1.94). A coupling turned more than
+    ``MAX_JOINT_ROTATION_RAD`` is now a spurious state: the solve falls back to the anchored one,
+    which reports the line as tipping, with every coupling turned by milliradians."""
+    from structure_fem.connectors import ConnectorSet
+    from structure_fem.model import MAX_JOINT_ROTATION_RAD, Config, solve_uncached
+
+    robot = make_robot(mass=0.3, k=200.0, k_ax=2e5, backlash=0.002)
+    conn = replace(ConnectorSet.from_robot(robot), hinge=hinge)
+    res = solve_uncached(Config(Structure("line"), 4, 2, 2), robot, conn, flexible=True)
+    assert res.tipping_factor <= 1.0 + 1e-6
+    assert np.max(np.abs(res.joint_rotation_rad)) < 0.1 * MAX_JOINT_ROTATION_RAD
+    assert np.max(np.abs(res.rotation_rad)) < 0.1
+    stands = solve_uncached(Config(Structure("line"), 5, 2, 2), robot, conn, flexible=True)
+    assert stands.tipping_factor > 1 and stands.anchor_pull_n == 0
 
 
 def test_an_anchored_solve_that_the_anchor_does_not_pull_is_the_free_solution(cubot, monkeypatch):
