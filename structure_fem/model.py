@@ -66,7 +66,7 @@ from cubot_cad.properties import RobotProperties
 from .connectors import SMOOTHING, ConnectorSet, band_force, dead_band_moment
 from .errors import InputError, SolverFailure
 from .hinge import add_links, along_factor, emergent
-from .structures import GRAVITY, Layout, Pier, Structure, layout, tipping_edge, tipping_factor
+from .structures import GRAVITY, Layout, Pier, Structure, gravity_moments, layout, tipping_edge, tipping_factor
 
 #: Ledge contact stiffness per support point (N/m): stiff against the couplings, not ill-conditioned.
 CONTACT_N_PER_M = 2.0e6
@@ -274,7 +274,7 @@ def _anchored(config: Config, robot: RobotProperties, conn: ConnectorSet,
             return replace(res, config=config)
         edge = tipping_edge(lay)
         arm = edge - float(lay.supports[rear].point_m[0])  # > 0: the anchor is behind the edge
-        restoring, overturning = _moments(lay, res.com_m[:, 0], edge)
+        restoring, overturning = gravity_moments(lay.bodies, res.com_m[:, 0], edge)
         tf = max(0.0, restoring - pull * arm) / overturning if overturning > 0 else 0.0
         return replace(res, config=config, tipping_factor=min(tf, res.tipping_factor), anchor_pull_n=pull)
     return None
@@ -283,13 +283,6 @@ def _anchored(config: Config, robot: RobotProperties, conn: ConnectorSet,
 #: An anchored rear pulling less than this fraction of the structure's weight counts as carrying
 #: nothing (the contact's smoothing leaves a residual of millinewtons).
 ANCHOR_PULL_TOLERANCE = 1e-4
-
-
-def _moments(lay: Layout, com_x: np.ndarray, edge_x: float) -> tuple[float, float]:
-    """Gravity moments (N m) about ``edge_x``: of the bodies behind it (restoring) and beyond it."""
-    arm = edge_x - np.asarray(com_x)
-    w = np.array([b.mass_kg for b in lay.bodies]) * GRAVITY
-    return float(np.sum(w * np.clip(arm, 0, None))), float(np.sum(w * np.clip(-arm, 0, None)))
 
 
 #: A converged state with a body turned further than this (rad) is spurious: upside down.

@@ -513,16 +513,27 @@ def rigid_tipping(lay: Layout) -> float:
     return tipping_factor(lay.bodies, [b.com_m[0] for b in lay.bodies], tipping_edge(lay))
 
 
+def _mass_moments(bodies: tuple[Body, ...], com_x: np.ndarray, edge_x: float) -> tuple[float, float]:
+    """Mass moments (kg m) about ``edge_x``: (behind it, beyond it)."""
+    m = np.array([b.mass_kg for b in bodies])
+    arm = np.asarray(com_x) - edge_x
+    return float(np.sum(m * np.clip(-arm, 0, None))), float(np.sum(m * np.clip(arm, 0, None)))
+
+
+def gravity_moments(bodies: tuple[Body, ...], com_x: np.ndarray, edge_x: float = 0.0) -> tuple[float, float]:
+    """Gravity moments (N m) about the tipping line ``edge_x``: (restoring, overturning), of the
+    bodies whose centre of mass is behind it and of those beyond it."""
+    back, over = _mass_moments(bodies, com_x, edge_x)
+    return GRAVITY * back, GRAVITY * over
+
+
 def tipping_factor(bodies: tuple[Body, ...], com_x: np.ndarray, edge_x: float = 0.0) -> float:
     """Restoring over overturning gravity moment about the tipping line ``edge_x`` (>1: stands;
     :func:`tipping_edge` says where it is: the front-most near-ledge contact).
 
     Bodies with their centre of mass behind the edge restore, those beyond it
-    overturn. With nothing beyond the edge the factor is infinite, returned as
-    ``math.inf`` (tables print it as "-", never NaN).
+    overturn (:func:`gravity_moments`). With nothing beyond the edge the factor is infinite,
+    returned as ``math.inf`` (tables print it as "-", never NaN).
     """
-    m = np.array([b.mass_kg for b in bodies])
-    arm = np.asarray(com_x) - edge_x
-    over = float(np.sum(m * np.clip(arm, 0, None)))
-    back = float(np.sum(m * np.clip(-arm, 0, None)))
+    back, over = _mass_moments(bodies, com_x, edge_x)
     return math.inf if over <= 0 else back / over

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import numpy as np
 import pytest
 
 from cubot_cad.errors import InputError as CadInputError
@@ -150,3 +151,20 @@ def test_piers_rest_on_the_contacts_over_the_top(make_robot):
     on = sorted(round(s.point_m[0], 9) for s in lay.supports if s.pier == 0)
     assert on == [0.312, 0.35, 0.388]  # the robot right over [0.3, 0.4]: its casters and wheels
     assert tipping_edge(lay) == pytest.approx(0.388)  # its front caster, 12 mm short of the far face
+
+
+def test_the_tipping_factor_is_the_restoring_over_the_overturning_gravity_moment(make_robot):
+    """One home for the moments: the anchored fallback's tipping factor takes them from
+    ``gravity_moments``, the same sums the tipping factor divides."""
+    from structure_fem.connectors import ConnectorSet
+    from structure_fem.structures import GRAVITY, gravity_moments, tipping_factor
+
+    r = make_robot(contacts=CUBOT_LIKE_CONTACTS)
+    lay = layout(Structure("line"), r, ConnectorSet.from_robot(r), 9, 4, 4)
+    com_x = np.array([b.com_m[0] for b in lay.bodies])
+    back, over = gravity_moments(lay.bodies, com_x, 0.0)
+    # every body is on one side or the other: the difference is the weight's first moment
+    assert back - over == pytest.approx(-GRAVITY * float(np.sum([b.mass_kg * x for b, x in zip(lay.bodies, com_x)])))
+    assert back > 0 and over > 0
+    assert tipping_factor(lay.bodies, com_x, 0.0) == pytest.approx(back / over, rel=1e-12)
+    assert gravity_moments(lay.bodies, com_x, 1.0)[1] == 0.0  # nothing beyond a far edge
