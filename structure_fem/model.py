@@ -66,7 +66,16 @@ from cubot_cad.properties import RobotProperties
 from .connectors import SMOOTHING, ConnectorSet, band_force, dead_band_moment
 from .errors import InputError, SolverFailure
 from .hinge import add_links, along_factor, emergent
-from .structures import GRAVITY, Layout, Pier, Structure, gravity_moments, layout, tipping_edge, tipping_factor
+from .structures import (
+    GRAVITY,
+    Layout,
+    Pier,
+    Structure,
+    gravity_moments,
+    layout,
+    tipping_edge,
+    tipping_factor,
+)
 
 #: Ledge contact stiffness per support point (N/m): stiff against the couplings, not ill-conditioned.
 CONTACT_N_PER_M = 2.0e6

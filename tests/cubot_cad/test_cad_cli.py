@@ -98,7 +98,7 @@ def _assert_same_record(a, b, path="record"):
             _assert_same_record(a[k], b[k], f"{path}.{k}")
     elif isinstance(a, (list, tuple)):
         assert isinstance(b, (list, tuple)) and len(a) == len(b), (path, a, b)
-        for i, (x, y) in enumerate(zip(a, b)):
+        for i, (x, y) in enumerate(zip(a, b, strict=True)):
             _assert_same_record(x, y, f"{path}[{i}]")
     else:
         assert a == b, (path, a, b)

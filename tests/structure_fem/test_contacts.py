@@ -164,7 +164,7 @@ def test_the_tipping_factor_is_the_restoring_over_the_overturning_gravity_moment
     com_x = np.array([b.com_m[0] for b in lay.bodies])
     back, over = gravity_moments(lay.bodies, com_x, 0.0)
     # every body is on one side or the other: the difference is the weight's first moment
-    assert back - over == pytest.approx(-GRAVITY * float(np.sum([b.mass_kg * x for b, x in zip(lay.bodies, com_x)])))
+    assert back - over == pytest.approx(-GRAVITY * float(np.sum([b.mass_kg * x for b, x in zip(lay.bodies, com_x, strict=True)])))
     assert back > 0 and over > 0
     assert tipping_factor(lay.bodies, com_x, 0.0) == pytest.approx(back / over, rel=1e-12)
     assert gravity_moments(lay.bodies, com_x, 1.0)[1] == 0.0  # nothing beyond a far edge

@@ -3,9 +3,8 @@ transients' trends on the shipped CuBot record."""
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import math
+from dataclasses import replace
 
 import pytest
 
