@@ -3,7 +3,6 @@
 import pytest
 
 from structure_fem.limits import load_limits
-
 from swarm_sim.errors import InputError
 from swarm_sim.runner import resolve_params, run_scenario, simulate
 

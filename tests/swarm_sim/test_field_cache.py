@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 from structure_fem.limits import load_limits
-
 from swarm_sim import navigation as N
 from swarm_sim.field_cache import FieldCache, contents_key
 from swarm_sim.runner import resolve_params, simulate
