@@ -117,11 +117,15 @@ def bench(robots: int = 10_000, steps: int = 500, scaling: tuple[int, ...] = (1_
 
 
 #: the real workload: (preset, robots, void widths, limits), each run to its end (issue 14's mix:
-#: case A 8/2, case D 9/3 and 50/5, the large void 70/8, plus cases B, C and a case-D retreat)
+#: case A 8/2, case D 9/3 and 50/5, the large void 70/8, plus cases B, C and a case-D retreat).
+#: The large void runs under the thesis's limits, as its Ch. 5.6 experiment does: under the derived
+#: ones (the emergent record since 2026-12-04, widest void 6) an 8-wide void is refused before the
+#: run. Until then it ran with the derived limits (and retreated), so ratios measured before
+#: 2026-12-04 are on that mix.
 THESIS_WORKLOAD = (
     ("case-a", 8, 2, "thesis"), ("case-b", 15, 5, "thesis"), ("case-c", 9, 3, "thesis"),
     ("case-d", 9, 3, "thesis"), ("case-d", 8, 3, "thesis"), ("case-d", 9, 3, "derived"),
-    ("case-d", 50, 5, "thesis"), ("large-void", 70, 8, "derived"),
+    ("case-d", 50, 5, "thesis"), ("large-void", 70, 8, "thesis"),
 )
 
 

@@ -48,3 +48,13 @@ def test_thesis_workload_refuses_a_bad_seed_count():
 
     with pytest.raises(InputError, match="--seeds"):
         workload_bench(0)
+
+
+def test_every_case_of_the_thesis_workload_is_valid_input_under_its_limits():
+    """The bench's mix must run whatever the packaged derived record says: each case resolves
+    (the large void's 8 widths under the derived emergent record would be refused)."""
+    from swarm_sim.bench import THESIS_WORKLOAD
+    from swarm_sim.runner import resolve_params
+
+    for preset, robots, width, limits in THESIS_WORKLOAD:
+        assert resolve_params(preset, robots, width, limits).void_width == width
