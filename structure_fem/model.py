@@ -554,10 +554,10 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
     if ok is False or not np.all(np.isfinite(q)):
         raise SolverFailure(f"static solve did not converge for {what}")
     nb = 3 * len(lay.bodies)
-    turn = float(np.max(np.abs(q[:nb].reshape(-1, 3)[:, 2]))) if nb else 0.0
+    phi = q[:nb].reshape(-1, 3)[:, 2]
+    turn = float(np.max(np.abs(phi))) if nb else 0.0
     if turn > MAX_BODY_ROTATION_RAD:
         raise SolverFailure(f"static solve for {what} reached a spurious state (a body turned {turn:.3g} rad)")
-    phi = q[:nb].reshape(-1, 3)[:, 2]
     opened = max((abs(float(phi[cp.b] - phi[cp.a])) for cp in lay.couplings), default=0.0)
     if opened > MAX_JOINT_ROTATION_RAD:
         raise SolverFailure(f"static solve for {what} reached a spurious state (a coupling turned {opened:.3g} rad)")

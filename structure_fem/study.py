@@ -649,8 +649,8 @@ def tapered_structure(lvl: StructureLevel) -> Structure:
 
 
 #: A robot of a tapering arch turned further than this (rad, nose down) before landing: the arch
-#: hangs into the void, collapsed (at 0.5 rad its front is metres below the ledge; the thesis's
-#: arch-30 reaches it at 28 widths under the emergent hinge, tip 993 mm, a robot turned 0.81 rad).
+#: hangs into the void, collapsed (its front hundreds of mm below the ledge; with the packaged
+#: record the thesis's 8 x 4 arch reaches it at 25 widths: tip 596 mm, a robot turned 0.53 rad).
 #: Wider voids of the same arch only add overhang, so :func:`tapered_arches` reports them as
 #: collapsed instead of solving them: their static solves did not converge and each cost minutes
 #: of retries on a 470-robot model.
