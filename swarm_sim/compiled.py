@@ -7,9 +7,11 @@ arithmetic (same float operations, same order):
 
 * free robots walk: :func:`swarm_sim.explore._walk_kernel` itself, on a Verlet list from
   :func:`swarm_sim.grid.verlet_update` (exact whatever its history), with the step's
-  random numbers (the reference's ``rng.random((4, k))``, drawn in the kernel from the
-  generator's own PCG64 state by :mod:`swarm_sim.pcg64`: the same stream, nothing drawn
-  ahead);
+  random numbers (the reference's ``rng.random((4, k))`` from the generator's own PCG64
+  state, :mod:`swarm_sim.pcg64`: only the few the walk reads are computed, by jump-ahead
+  from the step's start, and the commit jumps the stream past the step, so the numbers and
+  the stream's end are numpy's) and the walkers' cos/sin of heading kept between steps
+  (recomputed only for a robot that turned);
 * the dispersal clocks count down;
 * the seed's alignment (turn, back off, creep to the edge), the structure's ``wait``, its
   ``advance``/``back`` slide with the members placed at
@@ -88,7 +90,7 @@ AVAILABLE = HAVE_NUMBA
 if HAVE_NUMBA:
     from .explore import _walk_kernel, _wrap
     from .grid import verlet_update
-    from .pcg64 import fill as pcg_fill
+    from .pcg64 import jump as pcg_jump
 
     @numba.njit(cache=True, inline="always")
     def _two_prod(x, y):  # pragma: no cover - compiled
@@ -350,7 +352,7 @@ if HAVE_NUMBA:
         return True
 
     @numba.njit(cache=True)
-    def _kernel(n_steps, t, dt, x, y, h, goal, run_left, disp, mode, carried, walkers, rw, ub, ws_k, ws_counts,
+    def _kernel(n_steps, t, dt, x, y, h, goal, run_left, disp, mode, carried, walkers, rw, jt, ws_k, ws_counts,
                 ws_fill, ws_bucket, ws_items, ws_sx, ws_sy, nbr_start, nbr_idx, xref, yref, valid,
                 wf, obs, obs_none, levy, flags, kind, sf, mem_ids, mem_slots, rec_ids, rec_f, rec_final,
                 f_cost, f_nxt, f_closed, f_goal_cell, f_row, grid_i, gcx, gcy, job, job_ids, job_f, j_cost, j_nxt,
@@ -403,12 +405,18 @@ if HAVE_NUMBA:
             ay = rec_f[q, 3]
             rec_in_h[q] = dir_h if _hypot_below(dxp - ax, dyp - ay, 1e-9) else math.atan2(dyp - ay, dxp - ax)
             rec_tail[q] = _py_hypot(ax - dxp, ay - dyp)
+        # cos/sin of each walker's heading, kept by the walk (this call's only: a step that is not
+        # committed ends the call)
+        hc = np.empty(n)
+        hs = np.empty(n)
+        for q in range(k):
+            hc[walkers[q]] = math.cos(h[walkers[q]])
+            hs[walkers[q]] = math.sin(h[walkers[q]])
+        no_u = np.empty((0, 0))
         q4 = 0.5 * hw  # = 0.25 * width (World.void_ahead), exactly
         sense = hl + q4 + detect + 1.0  # no ground sensor reaches farther from the centre (cm)
         for j in range(n_steps):
             tn = t + dt
-            w0 = rw[0]  # the stream's state at the step's start (pcg64 words: state hi, lo)
-            w1 = rw[1]
             # 1. detect_seed (search phase): an explorer's ground sensor sees the void
             if search and x0 < 1e300:
                 for i in range(n):
@@ -437,12 +445,11 @@ if HAVE_NUMBA:
                     return j, R_GROW, t, front, progress
                 for q in range(k):
                     straight[q] = disp[walkers[q]] > 0
-                # the step's 4 x k uniforms, drawn from the generator's own stream (rewound
-                # below if the step is not committed)
-                pcg_fill(rw, ub)
-                _walk_kernel(x, y, h, goal, run_left, walkers, straight, ub, True, hl, hw, W, H, x0, x1, obs, r,
+                # the step's 4 x k uniforms are the generator's own stream from ``rw``: the walk
+                # computes the few it reads (jump table ``jt``); the commit jumps the stream past them
+                _walk_kernel(x, y, h, goal, run_left, walkers, straight, no_u, True, hl, hw, W, H, x0, x1, obs, r,
                              detect, avoid, dist, turn_max, levy, mu, lmin, lmax, p_turn, turn_rad, bx, by,
-                             nbr_start, nbr_idx)
+                             nbr_start, nbr_idx, rw, jt, hc, hs)
             stop = R_BATCH
             nfront = front
             nprogress = progress
@@ -602,9 +609,8 @@ if HAVE_NUMBA:
                                 yi + ey > H + 1e-6 - _MARGIN:
                             stop = R_INV
                             break
-            if stop != R_BATCH:  # not committed: undo the walk, the reference step does this one
-                rw[0] = w0  # and its draws (only the state words move; the increment is fixed)
-                rw[1] = w1
+            if stop != R_BATCH:  # not committed: undo the walk, the reference step does this one (the
+                # stream words ``rw`` move only at the commit)
                 for i in range(n):
                     x[i] = bx[i]
                     y[i] = by[i]
@@ -613,6 +619,8 @@ if HAVE_NUMBA:
                     run_left[i] = br[i]
                 return j, stop, t, front, progress
             # commit
+            if k:
+                pcg_jump(rw, jt, 4 * k)
             for i in range(n):
                 v = disp[i] - dt
                 disp[i] = v if v > 0.0 else 0.0
@@ -894,11 +902,12 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
     limit = max_steps if max_steps is not None else 1 << 62
     reason = R_BATCH
     rw = pcg64.words(rng)  # the kernel draws the walk's uniforms from the stream itself
-    ub = np.empty((4, k))
+    jt = np.empty((4 * k, 4), np.uint64)  # a step's 4 x k draws, by jump-ahead (pcg64.jump_table)
+    pcg64.jump_table(rw, 4 * k, jt)
     while total < limit:
         S = int(min(_MAX_BATCH, limit - total))
         j, reason, t, front, progress = _kernel(
-            S, t, p.dt_s, x, y, h, goal, run_left, disp, mode, carried, walkers, rw, ub, *ws[:7], *ws[7:], wf,
+            S, t, p.dt_s, x, y, h, goal, run_left, disp, mode, carried, walkers, rw, jt, *ws[:7], *ws[7:], wf,
             world.obstacles, obs_none, p.walk == "levy", flags, kind, sf, mem_ids, mem_slots, rec_ids,
             rec_f, rec_final, f_cost, f_nxt, f_closed, f_goal, f_row, grid_i, grid.cx, grid.cy, job, job_ids,
             job_f, j_cost, j_nxt, j_closed, j_goal, j_row)

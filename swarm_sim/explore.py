@@ -24,6 +24,7 @@ from .grid import HAVE_NUMBA, blocked_ahead, neighbour_list, numba
 
 if HAVE_NUMBA:
     from .grid import verlet_ahead
+    from .pcg64 import draw_at
 from .params import Params
 from .world import World, wrap
 
@@ -113,22 +114,44 @@ if HAVE_NUMBA:
             return a
         return (a + math.pi) % (2 * math.pi) - math.pi
 
+    @numba.njit(cache=True, inline="always")
+    def _uniform(u, rw, jt, row, k, kw):  # pragma: no cover - compiled
+        """The step's uniform ``u[row, k]`` (of ``kw`` walkers): from ``u``, or, when a jump
+        table is given, drawn from the stream words ``rw`` at its place in the step's C-order
+        block (:func:`swarm_sim.pcg64.draw_at`; the same number)."""
+        if jt.shape[0]:
+            return draw_at(rw, jt, row * kw + k)
+        return u[row, k]
+
     @numba.njit(cache=True, error_model="numpy")
     def _walk_kernel(x, y, h, goal, run_left, walkers, straight, u, sq, hl, hw, W, H, x0, x1,
                      obs, r, detect, avoid, dist, turn_max, levy, mu, lmin, lmax, p_turn,
-                     turn_rad, snap_x, snap_y, nbr_start, nbr_idx):  # pragma: no cover - compiled
-        # snap_x, snap_y: positions before anyone moves (the neighbour list was built from them)
+                     turn_rad, snap_x, snap_y, nbr_start, nbr_idx, rw, jt, hc, hs):  # pragma: no cover - compiled
+        """One walk step of ``walkers`` in place (the numba twin of :func:`_walk_numpy`).
+
+        ``snap_x``, ``snap_y``: positions before anyone moves (the neighbour list was built
+        from them). The step's ``4 x k`` uniforms are ``u``, or, with a non-empty jump table
+        ``jt`` (the compiled engine), only the ones read are computed from the stream words
+        ``rw`` (the caller then jumps the stream past the step). ``hc``, ``hs`` (length n, or
+        empty): cos and sin of every walker's heading, read instead of recomputed and kept
+        up to date (the compiled engine's steps; a heading changes on few steps)."""
         r2 = avoid * avoid
         q = 0.5 * hw
         a = mu - 1.0
         mid = 0.5 * (x0 + x1)
-        for k in range(walkers.shape[0]):  # index order: the per-robot arrays stream through cache
+        kw = walkers.shape[0]
+        cached = hc.shape[0] > 0
+        for k in range(kw):  # index order: the per-robot arrays stream through cache
             i = walkers[k]
             wx = x[i]
             wy = y[i]
             wh = h[i]
-            c = math.cos(wh)
-            s = math.sin(wh)
+            if cached:
+                c = hc[i]
+                s = hs[i]
+            else:
+                c = math.cos(wh)
+                s = math.sin(wh)
             hz = False
             if x0 < 1e300:
                 reach = detect * c
@@ -155,22 +178,23 @@ if HAVE_NUMBA:
                 rl = 0.0
             if hz:
                 if not (rl < 0 and abs(_wrap(g - wh)) > 1e-9):  # see _walk_numpy: keep
-                    side = -1.0 if u[0, k] < 0.5 else 1.0
-                    g = wh + side * (0.5 * math.pi + 0.5 * math.pi * u[1, k])
+                    side = -1.0 if _uniform(u, rw, jt, 0, k, kw) < 0.5 else 1.0
+                    g = wh + side * (0.5 * math.pi + 0.5 * math.pi * _uniform(u, rw, jt, 1, k, kw))
                 rl = AVOIDING
             elif not straight[k]:
                 if levy:
                     rl -= dist
                     if rl <= 0:
-                        g = wh + math.pi * (2 * u[2, k] - 1)
+                        g = wh + math.pi * (2 * _uniform(u, rw, jt, 2, k, kw) - 1)
+                        u3 = _uniform(u, rw, jt, 3, k, kw)
                         if abs(a) < 1e-9:
-                            rl = math.exp(math.log(lmin) + u[3, k] * (math.log(lmax) - math.log(lmin)))
+                            rl = math.exp(math.log(lmin) + u3 * (math.log(lmax) - math.log(lmin)))
                         else:
                             lo_ = lmin ** -a
                             hi_ = lmax ** -a
-                            rl = (lo_ + u[3, k] * (hi_ - lo_)) ** (-1.0 / a)
-                elif u[2, k] < p_turn:
-                    g = g + (-1.0 if u[3, k] < 0.5 else 1.0) * turn_rad
+                            rl = (lo_ + u3 * (hi_ - lo_)) ** (-1.0 / a)
+                elif _uniform(u, rw, jt, 2, k, kw) < p_turn:
+                    g = g + (-1.0 if _uniform(u, rw, jt, 3, k, kw) < 0.5 else 1.0) * turn_rad
             d = _wrap(g - wh)
             dh = min(max(d, -turn_max), turn_max)
             if dh == 0.0:  # no turn this step (the common case): reuse the heading's cos/sin
@@ -198,8 +222,14 @@ if HAVE_NUMBA:
                     nx, ny, nh = sx, wy, wh
                 else:
                     nx, ny, nh = wx, wy, wh
-                if not turned and rl < 0:  # turn refused: redraw the avoidance goal next step
-                    rl = 0.0
+                if not turned:
+                    cn = c
+                    sn = s
+                    if rl < 0:  # turn refused: redraw the avoidance goal next step
+                        rl = 0.0
+            if cached:
+                hc[i] = cn
+                hs[i] = sn
             x[i] = nx
             y[i] = ny
             h[i] = nh
@@ -208,6 +238,10 @@ if HAVE_NUMBA:
 
 
 _U_CACHE: dict = {}
+# the reference walk draws its uniforms into ``u`` and computes every cos/sin (no jump table, no cache)
+_NO_WORDS = np.zeros(4, np.uint64)
+_NO_TABLE = np.zeros((0, 4), np.uint64)
+_NO_CACHE = np.zeros(0)
 
 
 def walk(x, y, h, goal, run_left, walkers, straight, world: World, p: Params, rng: np.random.Generator,
@@ -239,7 +273,7 @@ def walk(x, y, h, goal, run_left, walkers, straight, world: World, p: Params, rn
                      world.obstacles, world.body_radius_cm, world.detect_cm, world.avoid_cm,
                      p.speed_cm_s * p.dt_s, p.turn_max_rad, p.walk == "levy", p.levy_mu,
                      p.levy_min_cm, p.levy_max_cm, p.random_turn_prob, p.random_turn_rad,
-                     px, py, *neighbour_list(px, py, p.avoid_cm)[7:9])
+                     px, py, *neighbour_list(px, py, p.avoid_cm)[7:9], _NO_WORDS, _NO_TABLE, _NO_CACHE, _NO_CACHE)
     else:
         q = walkers[~straight]
         blocked = blocked_ahead(x, y, h, q, p.avoid_cm, use_numba)[walkers] if q.size else np.zeros(k, bool)

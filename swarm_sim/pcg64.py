@@ -13,6 +13,14 @@ Here the kernel draws each number when it needs it from the generator's own stat
   returns: numpy's ``pcg_setseq_128_xsl_rr_64`` step (``state = state * M + inc`` mod 2^128,
   then ``rotr64(hi ^ lo, hi >> 58)``) and its double, ``(u64 >> 11) * 2^-53``.
 
+A step of the walk draws ``4 x k`` numbers but, with the Levy walk, reads few of them (a
+hazard's turn, the end of a run): :func:`jump_table` precomputes the affine maps
+``state -> A_m * state + C_m`` (mod 2^128) of ``m = 1 .. 4k`` advances once per kernel call, so
+:func:`draw_at` computes the ``j``-th draw of a step directly from the step's start state (one
+128-bit multiply-add, whatever ``j``) and :func:`jump` moves the stream past the whole step:
+the numbers read are the same and the stream ends where numpy's would, at a fraction of the
+cost (PCG's jump-ahead: O'Neill 2014, section 4.3.1; numpy's ``PCG64.advance`` does the same).
+
 ``tests/swarm_sim/test_pcg64.py`` compares it with numpy on many seeds and states.
 """
 
@@ -96,6 +104,54 @@ if HAVE_NUMBA:
         out = (x >> rot) | (x << ((np.uint64(64) - rot) & np.uint64(63)))
         return np.float64(out >> np.uint64(11)) * (1.0 / 9007199254740992.0)
 
+    @numba.njit(cache=True, inline="always")
+    def _output(hi, lo):  # pragma: no cover - compiled
+        """PCG64's XSL-RR output of a state, as ``Generator.random()``'s double."""
+        x = hi ^ lo
+        rot = hi >> np.uint64(58)
+        out = (x >> rot) | (x << ((np.uint64(64) - rot) & np.uint64(63)))
+        return np.float64(out >> np.uint64(11)) * (1.0 / 9007199254740992.0)
+
+    @numba.njit(cache=True, inline="always")
+    def _affine(ah, al, sh, sl, ch, cl):  # pragma: no cover - compiled
+        """(A * S + C) mod 2^128 on (hi, lo) uint64 pairs."""
+        lo = sl * al
+        hi = _mulhi(sl, al) + sl * ah + sh * al
+        lo2 = lo + cl
+        carry = np.uint64(1) if lo2 < lo else np.uint64(0)
+        return hi + ch + carry, lo2
+
+    @numba.njit(cache=True)
+    def jump_table(w, m, out):  # pragma: no cover - compiled
+        """``out[i] = (A_hi, A_lo, C_hi, C_lo)`` of ``i + 1`` advances (``A = M^(i+1)``,
+        ``C = inc * (M^i + ... + 1)``) for i < m, for the increment of the words ``w``."""
+        ah = np.uint64(MULT_HI)
+        al = np.uint64(MULT_LO)
+        ch = w[2]
+        cl = w[3]
+        for i in range(m):
+            out[i, 0] = ah
+            out[i, 1] = al
+            out[i, 2] = ch
+            out[i, 3] = cl
+            # A <- M * A, C <- M * C + inc
+            ah, al = _affine(np.uint64(MULT_HI), np.uint64(MULT_LO), ah, al, np.uint64(0), np.uint64(0))
+            ch, cl = _affine(np.uint64(MULT_HI), np.uint64(MULT_LO), ch, cl, w[2], w[3])
+
+    @numba.njit(cache=True, inline="always")
+    def draw_at(w, table, j):  # pragma: no cover - compiled
+        """The ``j``-th double (0-based) that ``Generator.random()`` would draw from the words
+        ``w`` (not advanced): the output of state ``A_(j+1) * s + C_(j+1)``."""
+        hi, lo = _affine(table[j, 0], table[j, 1], w[0], w[1], table[j, 2], table[j, 3])
+        return _output(hi, lo)
+
+    @numba.njit(cache=True, inline="always")
+    def jump(w, table, m):  # pragma: no cover - compiled
+        """Advance the words ``w`` by ``m`` draws (``m`` >= 1, at most the table's length)."""
+        hi, lo = _affine(table[m - 1, 0], table[m - 1, 1], w[0], w[1], table[m - 1, 2], table[m - 1, 3])
+        w[0] = hi
+        w[1] = lo
+
     @numba.njit(cache=True)
     def fill(w, out):  # pragma: no cover - compiled
         """Fill ``out`` (any C-contiguous float64 array) in C order, as ``rng.random(out.shape)``."""
@@ -105,4 +161,4 @@ if HAVE_NUMBA:
 
 
 __all__ = ["MULT_HI", "MULT_LO", "next_double_py", "store", "supported", "words"] + (
-    ["fill", "next_double"] if HAVE_NUMBA else [])
+    ["draw_at", "fill", "jump", "jump_table", "next_double"] if HAVE_NUMBA else [])

@@ -57,3 +57,24 @@ def test_a_generator_that_is_not_pcg64_gets_reference_steps_and_the_same_run():
     pc = np.random.default_rng(3)
     _, steps = compiled.fast_forward(init_state(p, pc), p, world, pc)
     assert steps > 0
+
+
+@pytest.mark.skipif(not HAVE_NUMBA, reason="numba not installed")
+@pytest.mark.parametrize("seed", [0, 7, 1002, 2**64 - 1])
+def test_a_draw_read_out_of_order_is_the_one_numpy_draws_there_and_the_jump_lands_where_numpy_does(seed):
+    rng = np.random.default_rng(seed)
+    rng.random(5)
+    w = pcg64.words(rng)
+    m = 4 * 13
+    table = np.empty((m, 4), np.uint64)
+    pcg64.jump_table(w, m, table)
+    want = rng.random(m)  # the step's 4 x 13 numbers, in C order
+    order = np.random.default_rng(1).permutation(m)  # read in any order, each from the step's start
+    assert [pcg64.draw_at(w, table, int(j)) for j in order] == list(want[order])
+    for steps in (1, 17, m):  # the jump moves the words by exactly that many draws
+        moved = w.copy()
+        pcg64.jump(moved, table, steps)
+        fresh = np.random.default_rng(seed)
+        fresh.random(5 + steps)
+        assert np.array_equal(moved, pcg64.words(fresh))
+
