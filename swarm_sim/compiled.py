@@ -413,6 +413,7 @@ if HAVE_NUMBA:
             hc[walkers[q]] = math.cos(h[walkers[q]])
             hs[walkers[q]] = math.sin(h[walkers[q]])
         no_u = np.empty((0, 0))
+        half_skin2 = 0.25 * SKIN_CM * SKIN_CM  # grid.verlet_update's h2
         q4 = 0.5 * hw  # = 0.25 * width (World.void_ahead), exactly
         sense = hl + q4 + detect + 1.0  # no ground sensor reaches farther from the centre (cm)
         for j in range(n_steps):
@@ -439,9 +440,17 @@ if HAVE_NUMBA:
                 bg[i] = goal[i]
                 br[i] = run_left[i]
             if k:
-                m = verlet_update(bx, by, avoid + SKIN_CM, SKIN_CM, ws_k, ws_counts, ws_fill, ws_bucket, ws_items,
-                                  ws_sx, ws_sy, nbr_start, nbr_idx, xref, yref, valid)
-                if m == -1:
+                # verlet_update's own validity test, here: the call (16 arrays) costs more than the test
+                # on most steps, when no robot has moved half the skin since the last rebuild
+                stale = valid[0] != 1
+                for i in range(n):
+                    if stale:
+                        break
+                    dx_ = bx[i] - xref[i]
+                    dy_ = by[i] - yref[i]
+                    stale = dx_ * dx_ + dy_ * dy_ > half_skin2
+                if stale and verlet_update(bx, by, avoid + SKIN_CM, SKIN_CM, ws_k, ws_counts, ws_fill, ws_bucket,
+                                           ws_items, ws_sx, ws_sy, nbr_start, nbr_idx, xref, yref, valid) == -1:
                     return j, R_GROW, t, front, progress
                 for q in range(k):
                     straight[q] = disp[walkers[q]] > 0

@@ -139,6 +139,7 @@ if HAVE_NUMBA:
         q = 0.5 * hw
         a = mu - 1.0
         mid = 0.5 * (x0 + x1)
+        sense = hl + q + detect + 1.0
         kw = walkers.shape[0]
         cached = hc.shape[0] > 0
         for k in range(kw):  # index order: the per-robot arrays stream through cache
@@ -153,7 +154,9 @@ if HAVE_NUMBA:
                 c = math.cos(wh)
                 s = math.sin(wh)
             hz = False
-            if x0 < 1e300:
+            # the ground sensors reach at most hl + q + detect from the centre (|cos|, |sin| <= 1;
+            # 1 cm more for rounding): a walker farther from the void band skips their test
+            if x0 < 1e300 and wx + sense > x0 and wx - sense < x1:
                 reach = detect * c
                 for lat in (0.0, q, -q):
                     px = wx + hl * c - lat * s
