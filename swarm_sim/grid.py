@@ -201,17 +201,6 @@ if HAVE_NUMBA:
         valid[0] = 1
         return m
 
-    @numba.njit(cache=True, inline="always")
-    def verlet_ahead(i, xi, yi, ch, sh, r2, x, y, nbr_start, nbr_idx):  # pragma: no cover
-        """Is a listed neighbour within sqrt(r2) of (xi, yi) and ahead along (ch, sh)?"""
-        for m in range(nbr_start[i], nbr_start[i + 1]):
-            j = nbr_idx[m]
-            ddx = x[j] - xi
-            ddy = y[j] - yi
-            if ddx * ddx + ddy * ddy < r2 and ddx * ch + ddy * sh > 0:
-                return True
-        return False
-
 
 _WORKSPACES: dict = {}
 SKIN_CM = 3.0  # Verlet skin: the list is rebuilt once some robot has moved SKIN_CM / 2
