@@ -13,7 +13,13 @@ tip + that allowance <= clearance (issue 12, deliverable 4), so without a cache 
   what a transient gives; ``tests/structure_fem/test_dynamics_cache.py`` holds a cached value
   to a fresh integration, so a stale version shows),
 
-so its sha256 over a canonical JSON of those inputs is the key. Entries live in the user cache
+so its sha256 over a canonical JSON of those inputs is the key: every float to
+:data:`KEY_DIGITS` significant digits (:func:`canonical`). The CAD's mass properties differ in
+their last bits between builds (measured: the CuBot's inertia, 1.2e-16 relative, between the
+packaged record and a fresh ``make demo``'s CAD stage), and a key over exact floats then missed
+every packaged transient: the demo integrated all 58 cold (~20 min). Twelve digits are far
+finer than any input is known (a mass to 0.1 g is four digits) and far coarser than such
+noise (and a magnitude below :data:`KEY_ZERO` counts as zero). Entries live in the user cache
 (``$XDG_CACHE_HOME/voidcross/dynamics/<key>.json``, one file each, written atomically) and in
 the packaged results (``structure_fem/data/dynamic_allowance.json``, written with the packaged
 limits by :func:`write_packaged` from the keys the regeneration used), so the shipped table's
@@ -69,8 +75,35 @@ def inputs_of(structure, width, rows: int, robot, connectors, flexible: bool, da
             "solver": asdict(SolverOptions())}
 
 
+#: Significant digits of every float in a key (module docstring).
+KEY_DIGITS = 12
+
+
+#: Floats smaller than this in magnitude count as zero in a key (SI: a product of inertia of a
+#: symmetric body is 0 or rounding noise of ~1e-22 kg m^2; no input is meaningful this small).
+KEY_ZERO = 1e-18
+
+
+def canonical(obj):
+    """``obj`` (JSON-like) with every number a float rounded to :data:`KEY_DIGITS` significant
+    digits (and below :data:`KEY_ZERO` in magnitude to 0.0: a record's ``0`` and a build's
+    ``1e-22`` or ``0.0`` are the same input); booleans and strings as they are."""
+    if isinstance(obj, int) and not isinstance(obj, bool):
+        obj = float(obj)
+    if isinstance(obj, float):
+        if not math.isfinite(obj):
+            return obj
+        return 0.0 if abs(obj) < KEY_ZERO else float(f"{obj:.{KEY_DIGITS}g}")
+    if isinstance(obj, dict):
+        return {k: canonical(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [canonical(v) for v in obj]
+    return obj
+
+
 def key_of(inputs: dict) -> str:
-    return hashlib.sha256(json.dumps(inputs, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
+    """sha256 of the canonical JSON of :func:`inputs_of`'s inputs (floats: :func:`canonical`)."""
+    return hashlib.sha256(json.dumps(canonical(inputs), sort_keys=True, separators=(",", ":")).encode()).hexdigest()
 
 
 def _packaged() -> dict[str, dict]:

@@ -63,6 +63,27 @@ def test_every_input_that_changes_the_transient_changes_the_key(setup):
     assert fn.calls == 1 + len(variants) + 3
 
 
+def test_a_record_that_differs_in_its_last_bits_finds_the_transient_and_a_real_change_does_not(setup):
+    """The CAD's mass properties differ in their last bits between builds (the CuBot's inertia,
+    1.2e-16 relative, a fresh `make demo` against the packaged record): the key is over floats to
+    12 significant digits, so such noise finds the cached transient; a change of 1e-9 does not."""
+    import math
+
+    robot, conn, cache = setup
+    fn = Counter()
+    _call(robot, conn, cache, fn)
+    noisy = replace(robot, mass_kg=math.nextafter(robot.mass_kg, 1.0),  # last bits; a zero off by 1e-22
+                    inertia_kg_m2=tuple(math.nextafter(v, -1.0) if v else 1e-22 for v in robot.inertia_kg_m2))
+    assert noisy != robot
+    _call(noisy, conn, cache, fn)
+    assert fn.calls == 1
+    _call(replace(robot, mass_kg=robot.mass_kg * (1 + 1e-9)), conn, cache, fn)
+    assert fn.calls == 2
+    canon = dc.canonical({"a": [0.1 + 0.2, 1.0, float("inf"), -3e-20], "b": 3, "c": True, "d": "x"})
+    assert canon == {"a": [0.3, 1.0, float("inf"), 0.0], "b": 3.0, "c": True, "d": "x"}
+    assert type(canon["b"]) is float and canon["c"] is True
+
+
 def test_a_corrupt_cache_file_is_recomputed_and_rewritten(setup):
     robot, conn, cache = setup
     fn = Counter()
