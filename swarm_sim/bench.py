@@ -9,8 +9,9 @@
   with both engines (``compiled`` and ``reference``, :func:`swarm_sim.runner.simulate`) in
   the same call: CPU seconds per run, runs per second, the speed-up and whether both gave the
   same runs, plus the exploration rate of 10,000 robots measured in the same call (the
-  ratio says how far the real workload is from the engine's best case) and the compiled
-  engine's cold compile time in a fresh process.
+  ratio says how far the real workload is from the engine's best case), the share of the
+  compiled engine's CPU spent in its kernel (``kernel_share``; the rest is the Python around
+  it) and its cold compile time in a fresh process.
 """
 
 from __future__ import annotations
@@ -186,6 +187,7 @@ def workload_bench(seeds: int = 3, use_numba: bool | None = None, progress=lambd
             e["steps"] += res.steps
             if eng == "compiled":
                 d["reference_steps"] += st.get("reference_steps", 0)
+                d["kernel_cpu_s"] = d.get("kernel_cpu_s", 0.0) + st.get("kernel_cpu_s", 0.0)
             r = res.to_dict(events=True)
             r.pop("wall_s")
             runs[eng] = r
@@ -212,6 +214,7 @@ def workload_bench(seeds: int = 3, use_numba: bool | None = None, progress=lambd
             c["speedup_vs_reference"] = round(d["reference"]["cpu_s"] / d["compiled"]["cpu_s"], 2)
             c["reference_steps_per_run"] = d["reference_steps"] // d[main]["runs"]
             c["identical_to_reference"] = d["identical"]
+            c["kernel_share"] = round(d["kernel_cpu_s"] / d["compiled"]["cpu_s"], 3)
         cases.append(c)
     rate = tot[main]["rs"] / tot[main]["cpu_s"]
     out = {
@@ -231,6 +234,11 @@ def workload_bench(seeds: int = 3, use_numba: bool | None = None, progress=lambd
         out["reference_runs_per_s"] = round(len(jobs) / tot["reference"]["cpu_s"], 2)
         out["speedup_vs_reference"] = round(tot["reference"]["cpu_s"] / tot["compiled"]["cpu_s"], 2)
         out["identical_to_reference"] = all(c["identical_to_reference"] for c in cases)
+        k_cpu = sum(d.get("kernel_cpu_s", 0.0) for d in per.values())
+        # where the compiled engine's time goes: the kernel, or the Python around it (the reference
+        # steps with their decisions and recruitment calls, the kernel calls' set-up)
+        out["kernel_cpu_s"] = round(k_cpu, 3)
+        out["kernel_share"] = round(k_cpu / tot["compiled"]["cpu_s"], 3)
         d93 = per.get(("case-d", 9, 3, "thesis"))
         if d93 is not None:
             out["case_d_9_3_cpu_ms_per_run"] = round(1e3 * d93["compiled"]["cpu_s"] / d93["compiled"]["runs"], 2)

@@ -54,6 +54,7 @@ alignment and any step after an invariant violation.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import replace
 
 import numpy as np
@@ -813,7 +814,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
     """Advance ``state`` by as many whole reference-identical steps as the kernel can (0 when it
     cannot do the next one); returns (new state, steps advanced). The caller runs the next
     step with :func:`swarm_sim.step.step`. ``stats`` (optional dict) counts kernel calls,
-    steps and stop reasons."""
+    steps, stop reasons and the CPU seconds spent inside the kernel (``kernel_cpu_s``)."""
     if not AVAILABLE or world.shape != "square" or state.phase in _ENDED or not pcg64.supported(rng):
         return state, 0
     kind = _kind(state, p, world, check)
@@ -915,6 +916,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
     pcg64.jump_table(rw, 4 * k, jt)
     while total < limit:
         S = int(min(_MAX_BATCH, limit - total))
+        t_cpu = time.process_time() if stats is not None else 0.0
         j, reason, t, front, progress = _kernel(
             S, t, p.dt_s, x, y, h, goal, run_left, disp, mode, carried, walkers, rw, jt, *ws[:7], *ws[7:], wf,
             world.obstacles, obs_none, p.walk == "levy", flags, kind, sf, mem_ids, mem_slots, rec_ids,
@@ -922,6 +924,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
             job_f, j_cost, j_nxt, j_closed, j_goal, j_row)
         total += j
         if stats is not None:
+            stats["kernel_cpu_s"] = stats.get("kernel_cpu_s", 0.0) + time.process_time() - t_cpu
             stats["kernel_calls"] = stats.get("kernel_calls", 0) + 1
             why = STOP_REASONS[reason]
             stops = stats.setdefault("stops", {})

@@ -39,7 +39,8 @@ def test_thesis_workload_rate_as_a_ratio_to_the_exploration_rate(benchmark):
     if AVAILABLE:
         assert rep["engines"] == ["compiled", "reference"] and rep["identical_to_reference"] is True
         assert all(c["speedup_vs_reference"] > 0 and c["reference_steps_per_run"] < c["steps_per_run"]
-                   for c in rep["cases"])
+                   and 0 < c["kernel_share"] < 1 for c in rep["cases"])
+        assert 0 < rep["kernel_share"] < 1
 
 
 def test_thesis_workload_refuses_a_bad_seed_count():
@@ -58,3 +59,25 @@ def test_every_case_of_the_thesis_workload_is_valid_input_under_its_limits():
 
     for preset, robots, width, limits in THESIS_WORKLOAD:
         assert resolve_params(preset, robots, width, limits).void_width == width
+
+
+def test_a_compiled_run_reports_the_cpu_spent_in_its_kernel():
+    """`stats["kernel_cpu_s"]`: the compiled engine's kernel time, part of the run's CPU (what the
+    bench's ``kernel_share`` adds up); a reference run has none."""
+    import time
+
+    from swarm_sim.compiled import AVAILABLE
+    from swarm_sim.runner import resolve_params, simulate
+
+    if not AVAILABLE:
+        pytest.skip("numba not installed")
+    p = resolve_params("case-d", 9, 3, "thesis")
+    simulate(p, 1, engine="compiled")  # compiled (or loaded) before timing
+    st: dict = {}
+    t0 = time.process_time()
+    simulate(p, 2, engine="compiled", stats=st)
+    cpu = time.process_time() - t0
+    assert st["kernel_steps"] > 0 and 0 < st["kernel_cpu_s"] < cpu
+    ref: dict = {}
+    simulate(p, 2, engine="reference", stats=ref)
+    assert "kernel_cpu_s" not in ref

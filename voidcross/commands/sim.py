@@ -261,11 +261,12 @@ def bench(args: argparse.Namespace) -> int:
             lines.append(f"compiled engine: {rep['speedup_vs_reference']:.1f}x the reference overall "
                          f"({rep['runs_per_s']:.1f} vs {rep['reference_runs_per_s']:.2f} runs/s), case-D 9/3 "
                          f"{rep.get('case_d_9_3_cpu_ms_per_run', float('nan')):.0f} ms CPU per run; identical runs: "
-                         f"{rep['identical_to_reference']}; cold compile {rep.get('cold_compile_s', float('nan')):.1f} s, "
+                         f"{rep['identical_to_reference']}; {100 * rep['kernel_share']:.0f} % of its CPU in the kernel; "
+                         f"cold compile {rep.get('cold_compile_s', float('nan')):.1f} s, "
                          f"warm start {rep.get('warm_start_s', float('nan')):.2f} s")
         lines += [f"  {c['preset']} N={c['robots']} w={c['void_width']} {c['limits']}: {c['cpu_s_per_run']:.3f} s/run"
-                  + (f" (reference {c['reference_cpu_s_per_run']:.2f} s: {c['speedup_vs_reference']:.1f}x)"
-                     if "speedup_vs_reference" in c else "")
+                  + (f" (reference {c['reference_cpu_s_per_run']:.2f} s: {c['speedup_vs_reference']:.1f}x; "
+                     f"{100 * c['kernel_share']:.0f} % in the kernel)" if "speedup_vs_reference" in c else "")
                   + f", {c['steps_per_run']} steps, {c['us_per_step']:.1f} us/step, {c['outcomes']}"
                   for c in rep["cases"]]
         emit(args, rep, "\n".join(lines))
