@@ -666,9 +666,9 @@ if HAVE_NUMBA:
 def _drop_stale_cache() -> None:
     """numba's cache (``cache=True``) checks only the source file of the cached function, not the
     njit functions it calls in other modules (``explore._walk_kernel``, ``grid.verlet_update``,
-    ``pcg64.fill``):
-    after an edit there this module's cached kernels would keep the old code. So their cache
-    files are dropped (and recompiled on first use) whenever those sources change."""
+    ``pcg64.jump``, and the walk's ``pcg64.draw_at``): after an edit there this module's and
+    ``explore``'s cached kernels would keep the old code. So their cache files are dropped (and
+    recompiled on first use) whenever those sources change."""
     import hashlib
     import os
 
@@ -690,7 +690,7 @@ def _drop_stale_cache() -> None:
         pass
     try:
         for name in os.listdir(path):
-            if name.startswith("compiled.") and name.endswith((".nbi", ".nbc")):
+            if name.startswith(("compiled.", "explore.")) and name.endswith((".nbi", ".nbc")):
                 os.remove(os.path.join(path, name))
         with open(stamp, "w", encoding="ascii") as fh:
             fh.write(digest.hexdigest())

@@ -9,12 +9,12 @@ Here the kernel draws each number when it needs it from the generator's own stat
 * :func:`words` reads a ``np.random.PCG64``'s 128-bit state and increment as four uint64
   words ``(state_hi, state_lo, inc_hi, inc_lo)``; :func:`store` writes them back
   (``has_uint32``/``uinteger``, the 32-bit buffer ``random()`` never touches, are kept);
-* :func:`next_double` advances the words in place and returns what ``Generator.random()``
-  returns: numpy's ``pcg_setseq_128_xsl_rr_64`` step (``state = state * M + inc`` mod 2^128,
-  then ``rotr64(hi ^ lo, hi >> 58)``) and its double, ``(u64 >> 11) * 2^-53``.
+* a draw is numpy's ``pcg_setseq_128_xsl_rr_64`` step (``state = state * M + inc`` mod 2^128,
+  then ``rotr64(hi ^ lo, hi >> 58)``) and its double, ``(u64 >> 11) * 2^-53``
+  (:func:`next_double_py` in pure Python, the reference of the tests).
 
 A step of the walk draws ``4 x k`` numbers but, with the Levy walk, reads few of them (a
-hazard's turn, the end of a run): :func:`jump_table` precomputes the affine maps
+hazard's turn, the end of a run), so none is drawn in sequence: :func:`jump_table` precomputes the affine maps
 ``state -> A_m * state + C_m`` (mod 2^128) of ``m = 1 .. 4k`` advances once per kernel call, so
 :func:`draw_at` computes the ``j``-th draw of a step directly from the step's start state (one
 128-bit multiply-add, whatever ``j``) and :func:`jump` moves the stream past the whole step:
@@ -37,7 +37,7 @@ _M64 = (1 << 64) - 1
 
 
 def supported(rng: np.random.Generator) -> bool:
-    """The generator's stream is one :func:`next_double` reproduces (a PCG64 bit generator)."""
+    """The generator's stream is one :func:`draw_at` reproduces (a PCG64 bit generator)."""
     return type(rng.bit_generator) is np.random.PCG64
 
 
@@ -57,7 +57,8 @@ def store(rng: np.random.Generator, w: np.ndarray) -> None:
 
 
 def next_double_py(w: list[int]) -> float:
-    """Pure-Python reference of :func:`next_double` on a list of four ints (for tests)."""
+    """One draw in pure Python on a list of four ints (advanced in place): ``Generator.random()``
+    (the reference the compiled :func:`draw_at` / :func:`jump` are tested against)."""
     st = (w[0] << 64) | w[1]
     inc = (w[2] << 64) | w[3]
     st = (st * ((MULT_HI << 64) | MULT_LO) + inc) & ((1 << 128) - 1)
@@ -84,25 +85,6 @@ if HAVE_NUMBA:
             return builder.trunc(builder.lshr(p, ir.Constant(i128, 64)), ir.IntType(64))
 
         return sig, codegen
-
-    @numba.njit(cache=True, inline="always")
-    def next_double(w):  # pragma: no cover - compiled
-        """Advance the PCG64 words ``w`` (uint64[4]) by one draw; returns ``Generator.random()``'s double."""
-        mh = np.uint64(MULT_HI)
-        ml = np.uint64(MULT_LO)
-        sh = w[0]
-        sl = w[1]
-        lo = sl * ml
-        hi = _mulhi(sl, ml) + sl * mh + sh * ml
-        lo2 = lo + w[3]
-        carry = np.uint64(1) if lo2 < lo else np.uint64(0)
-        hi = hi + w[2] + carry
-        w[0] = hi
-        w[1] = lo2
-        x = hi ^ lo2
-        rot = hi >> np.uint64(58)
-        out = (x >> rot) | (x << ((np.uint64(64) - rot) & np.uint64(63)))
-        return np.float64(out >> np.uint64(11)) * (1.0 / 9007199254740992.0)
 
     @numba.njit(cache=True, inline="always")
     def _output(hi, lo):  # pragma: no cover - compiled
@@ -152,13 +134,6 @@ if HAVE_NUMBA:
         w[0] = hi
         w[1] = lo
 
-    @numba.njit(cache=True)
-    def fill(w, out):  # pragma: no cover - compiled
-        """Fill ``out`` (any C-contiguous float64 array) in C order, as ``rng.random(out.shape)``."""
-        flat = out.reshape(out.size)
-        for i in range(flat.shape[0]):
-            flat[i] = next_double(w)
-
 
 __all__ = ["MULT_HI", "MULT_LO", "next_double_py", "store", "supported", "words"] + (
-    ["draw_at", "fill", "jump", "jump_table", "next_double"] if HAVE_NUMBA else [])
+    ["draw_at", "jump", "jump_table"] if HAVE_NUMBA else [])

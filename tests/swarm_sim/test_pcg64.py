@@ -18,12 +18,19 @@ def test_the_python_reference_is_numpys_stream(seed):
 @pytest.mark.skipif(not HAVE_NUMBA, reason="numba not installed")
 @pytest.mark.parametrize("seed", [0, 5, 1001, 2**40 + 3, 2**64 - 1])
 def test_the_kernel_draws_are_rng_random_in_c_order(seed):
+    """As the kernel uses them: each step's 4 x k block read through the jump table from the
+    step's start, then the stream jumped past it; 64 steps are numpy's rng.random((64, 4, k))."""
     rng = np.random.default_rng(seed)
     rng.random(11)
     w = pcg64.words(rng)
-    got = np.empty((64, 4, 9))
-    pcg64.fill(w, got)
-    assert np.array_equal(got, rng.random((64, 4, 9)))
+    k = 9
+    table = np.empty((4 * k, 4), np.uint64)
+    pcg64.jump_table(w, 4 * k, table)
+    got = np.empty((64, 4, k))
+    for step in range(64):
+        got[step] = np.array([pcg64.draw_at(w, table, j) for j in range(4 * k)]).reshape(4, k)
+        pcg64.jump(w, table, 4 * k)
+    assert np.array_equal(got, rng.random((64, 4, k)))
     # the words moved exactly as the generator did: the next draws agree too
     other = np.random.default_rng(seed)
     pcg64.store(other, w)
