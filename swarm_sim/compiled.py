@@ -89,6 +89,7 @@ _MAX_BATCH = 16384  # steps per kernel call at most (it returns earlier when any
 AVAILABLE = HAVE_NUMBA
 
 if HAVE_NUMBA:
+    from .borrow import borrowed
     from .explore import _walk_kernel, _wrap
     from .grid import verlet_update
     from .pcg64 import jump as pcg_jump
@@ -365,6 +366,14 @@ if HAVE_NUMBA:
         ``rec_f`` (R, 7): per recruit dock x, y, goal x, y, best, since, -; ``rec_final`` (R,).
         ``job``: the foot round's stage (J_NONE, J_DRIVE, J_CLIMB), ``sf[20]`` its climb's end (s);
         ``job_f`` (J, 4): per round robot staging x, y, best, since (:func:`swarm_sim.feet.advance_job`)."""
+        # the arrays passed on to compiled calls every step (the walk, the recruits' drive) as borrowed
+        # views: no reference counts per call (swarm_sim.borrow; the caller holds the arrays)
+        x, y, h, goal, run_left, walkers, rw, jt, nbr_start, nbr_idx, obs, obs_none = (
+            borrowed(x), borrowed(y), borrowed(h), borrowed(goal), borrowed(run_left), borrowed(walkers),
+            borrowed(rw), borrowed(jt), borrowed(nbr_start), borrowed(nbr_idx), borrowed(obs), borrowed(obs_none))
+        f_cost, f_nxt, f_closed, j_cost, j_nxt, j_closed, gcx, gcy = (
+            borrowed(f_cost), borrowed(f_nxt), borrowed(f_closed), borrowed(j_cost), borrowed(j_nxt),
+            borrowed(j_closed), borrowed(gcx), borrowed(gcy))
         n = x.shape[0]
         k = walkers.shape[0]
         hl, hw, W, H, x0, x1, r, detect, avoid, dist, turn_max, mu, lmin, lmax, p_turn, turn_rad = (
@@ -414,6 +423,9 @@ if HAVE_NUMBA:
             hc[walkers[q]] = math.cos(h[walkers[q]])
             hs[walkers[q]] = math.sin(h[walkers[q]])
         no_u = np.empty((0, 0))
+        # the walk's own arrays as borrowed views (the arguments are borrowed above)
+        vstraight, vno_u, vbx, vby, vhc, vhs = (borrowed(straight), borrowed(no_u), borrowed(bx), borrowed(by),
+                                                 borrowed(hc), borrowed(hs))
         half_skin2 = 0.25 * SKIN_CM * SKIN_CM  # grid.verlet_update's h2
         q4 = 0.5 * hw  # = 0.25 * width (World.void_ahead), exactly
         sense = hl + q4 + detect + 1.0  # no ground sensor reaches farther from the centre (cm)
@@ -457,9 +469,9 @@ if HAVE_NUMBA:
                     straight[q] = disp[walkers[q]] > 0
                 # the step's 4 x k uniforms are the generator's own stream from ``rw``: the walk
                 # computes the few it reads (jump table ``jt``); the commit jumps the stream past them
-                _walk_kernel(x, y, h, goal, run_left, walkers, straight, no_u, True, hl, hw, W, H, x0, x1, obs, r,
-                             detect, avoid, dist, turn_max, levy, mu, lmin, lmax, p_turn, turn_rad, bx, by,
-                             nbr_start, nbr_idx, rw, jt, hc, hs)
+                _walk_kernel(x, y, h, goal, run_left, walkers, vstraight, vno_u, True, hl, hw, W, H, x0, x1, obs, r,
+                             detect, avoid, dist, turn_max, levy, mu, lmin, lmax, p_turn, turn_rad, vbx, vby,
+                             nbr_start, nbr_idx, rw, jt, vhc, vhs)
             stop = R_BATCH
             nfront = front
             nprogress = progress
@@ -672,13 +684,13 @@ def _drop_stale_cache() -> None:
     import hashlib
     import os
 
-    from . import explore, grid, pcg64
+    from . import borrow, explore, grid, pcg64
 
     path = getattr(getattr(_kernel, "_cache", None), "_cache_path", None)
     if not path or not os.path.isdir(path):
         return
     digest = hashlib.sha1()
-    for mod in (explore, grid, pcg64):
+    for mod in (borrow, explore, grid, pcg64):
         with open(mod.__file__, "rb") as fh:
             digest.update(fh.read())
     stamp = os.path.join(path, "compiled.deps-sha1")
