@@ -55,13 +55,12 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import replace
 
 import numpy as np
 
 from . import pcg64
 from .grid import HAVE_NUMBA, SKIN_CM, numba, workspace
-from .state import OPEN, WALKING_MODES, Mode, Phase
+from .state import OPEN, WALKING_MODES, Mode, Phase, evolve
 
 _EXPLORE, _TARGET = int(Mode.EXPLORE), int(Mode.TARGET)
 _P_SEARCH, _P_BUILD, _P_DELIVERED, _P_WANDER = (int(Phase.SEARCH), int(Phase.BUILD), int(Phase.DELIVERED),
@@ -964,21 +963,21 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
     new_st = st
     if st is not None:
         if kind == K_SLIDE:
-            new_st = replace(st, front_s_cm=float(front))
+            new_st = evolve(st, front_s_cm=float(front))
         elif kind == K_RECRUIT:
             best = tuple(float(v) for v in rec_f[:, 4])
             since = tuple(float(v) for v in rec_f[:, 5])
             final = tuple(bool(v) for v in rec_final)
             if (best, since, final) != (st.recruit_best_cm, st.recruit_progress_s, st.recruit_final):
-                new_st = replace(st, recruit_best_cm=best, recruit_progress_s=since, recruit_final=final)
+                new_st = evolve(st, recruit_best_cm=best, recruit_progress_s=since, recruit_final=final)
         if job == J_DRIVE:
             best = tuple(float(v) for v in job_f[:, 2])
             since = tuple(float(v) for v in job_f[:, 3])
             if (best, since) != (st.job_best_cm, st.job_progress_s):
-                new_st = replace(new_st, job_best_cm=best, job_progress_s=since)
+                new_st = evolve(new_st, job_best_cm=best, job_progress_s=since)
         if float(progress) != new_st.progress_s:
-            new_st = replace(new_st, progress_s=float(progress))
-    new = replace(state, x_cm=x, y_cm=y, heading_rad=h, goal_heading_rad=goal, run_left_cm=run_left,
+            new_st = evolve(new_st, progress_s=float(progress))
+    new = evolve(state, x_cm=x, y_cm=y, heading_rad=h, goal_heading_rad=goal, run_left_cm=run_left,
                   disperse_left_s=disp, t_s=float(t), step=state.step + total, structure=new_st)
     return new, total
 

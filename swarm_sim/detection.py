@@ -44,7 +44,7 @@ from __future__ import annotations
 import numpy as np
 
 from .faults import DRIVE, SENSOR, TOTAL
-from .state import OPEN, Mode, Phase
+from .state import OPEN, Mode, Phase, evolve
 from .tick import Tick
 
 _EXPLORE, _SEED, _TARGET = int(Mode.EXPLORE), int(Mode.SEED), int(Mode.TARGET)
@@ -116,8 +116,6 @@ def seed_failed(tk: Tick) -> bool:
 def abandon(tk: Tick, why: str) -> None:
     """The structure never got over the void and no member can go on: its robots are free
     again (the failed ones stand where they are) and the search for the void starts over."""
-    from dataclasses import replace
-
     from .retreat import dissolved
 
     st = tk.st
@@ -129,7 +127,7 @@ def abandon(tk: Tick, why: str) -> None:
         tk.mode[list(st.recruits)] = _EXPLORE
     tk.ev("structure_abandoned", ids[0] if ids else -1, why=why, robots=ids)
     if st.retreating:  # the retreat is over: what is left of the structure stands on the initial ground
-        tk.st = replace(st, members=(), shell=(), job=(), recruits=(), action="idle")
+        tk.st = evolve(st, members=(), shell=(), job=(), recruits=(), action="idle")
         dissolved(tk)
         return
     tk.st = None

@@ -14,7 +14,6 @@ planner: they stand beside the staging points the robots drive to.
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 from . import taper as T
 from .faults import DRIVE
@@ -24,7 +23,7 @@ from .params import level_params
 from .recruitment import answering, candidates
 from .release import release
 from .retreat import start_retreat
-from .state import Mode, Structure
+from .state import Mode, Structure, evolve
 from .tick import Tick
 
 _EXPLORE, _RECRUIT, _MEMBER = int(Mode.EXPLORE), int(Mode.RECRUIT), int(Mode.MEMBER)
@@ -57,7 +56,7 @@ def start_fill_near(tk: Tick, g: T.ShellGeometry) -> None:
         return
     cols = cols[:len(chosen)]
     tk.mode[chosen] = _RECRUIT
-    tk.st = replace(tk.st, job=tuple(chosen), job_cols=tuple(cols), job_kind="fill_near", job_stage="drive",
+    tk.st = evolve(tk.st, job=tuple(chosen), job_cols=tuple(cols), job_kind="fill_near", job_stage="drive",
                     job_best_cm=(math.inf,) * len(chosen), job_progress_s=(tk.t,) * len(chosen), progress_s=tk.t)
     tk.ev("fill_near_start", chosen[0], robots=list(chosen), columns=list(cols))
 
@@ -69,7 +68,7 @@ def start_unfill(tk: Tick, g: T.ShellGeometry, kind: str) -> None:
     prev = list(st.shell)
     robots = tuple(T.pop_column(prev, g, c) for c in cols)
     zmax = max(int(g.col_z[c]) for c in cols)
-    tk.st = replace(st, job=robots, job_cols=tuple(cols), job_kind=kind, job_stage="climb",
+    tk.st = evolve(st, job=robots, job_cols=tuple(cols), job_kind=kind, job_stage="climb",
                     job_until_s=tk.t + zmax * p.climb_s_per_layer + p.robot_length_cm / p.speed_cm_s,
                     progress_s=tk.t)
     tk.ev(kind + "_start", robots[0], robots=list(robots), columns=list(cols))
@@ -99,10 +98,10 @@ def advance_job(tk: Tick) -> None:
             if left < best[i] - half_cell:
                 best[i], since[i] = left, tk.t
                 tk.progress()
-        tk.st = replace(tk.st, job_best_cm=tuple(best), job_progress_s=tuple(since))
+        tk.st = evolve(tk.st, job_best_cm=tuple(best), job_progress_s=tuple(since))
         if arrived:
             zmax = max(int(g.col_z[c]) for c in st.job_cols)
-            tk.st = replace(tk.st, job_stage="climb", job_until_s=tk.t + zmax * p.climb_s_per_layer + L / p.speed_cm_s)
+            tk.st = evolve(tk.st, job_stage="climb", job_until_s=tk.t + zmax * p.climb_s_per_layer + L / p.speed_cm_s)
         return
     if tk.t + 1e-9 < st.job_until_s:
         return
@@ -123,7 +122,7 @@ def advance_job(tk: Tick) -> None:
             if new_mode == _EXPLORE:
                 tk.disp[r] = 0.0
     tk.ev(st.job_kind, st.job[0], robots=list(st.job), columns=list(st.job_cols))
-    tk.st = replace(tk.st, shell=tuple(shell), job=(), job_cols=(), job_kind="", job_stage="", job_until_s=0.0,
+    tk.st = evolve(tk.st, shell=tuple(shell), job=(), job_cols=(), job_kind="", job_stage="", job_until_s=0.0,
                     job_best_cm=(), job_progress_s=(), progress_s=tk.t)
 
 
@@ -135,5 +134,5 @@ def abort_job(tk: Tick) -> None:
         tk.mode[r] = _TARGET if tk.sopp[r] == 1 else _EXPLORE
         tk.sopp[r] = -1
     tk.ev("job_aborted", st.job[0], kind=st.job_kind, robots=list(st.job))
-    tk.st = replace(st, job=(), job_cols=(), job_kind="", job_stage="", job_until_s=0.0, job_best_cm=(),
+    tk.st = evolve(st, job=(), job_cols=(), job_kind="", job_stage="", job_until_s=0.0, job_best_cm=(),
                     job_progress_s=())

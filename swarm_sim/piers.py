@@ -37,13 +37,12 @@ beyond it + ``pier_ground_margin``, at most ``overhang_widths[k - 1]`` rows beyo
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 
 from .faults import DRIVE, SENSOR, TOTAL
 from .navigation import cost_field, nav_grid
-from .state import Mode
+from .state import Mode, evolve
 from .tick import Tick
 
 _EXPLORE, _RECRUIT, _PIER = int(Mode.EXPLORE), int(Mode.RECRUIT), int(Mode.PIER)
@@ -180,7 +179,7 @@ def start(tk: Tick) -> None:
 
     st, p = tk.st, tk.p
     if not st.piers or st.piers[-1][1] >= p.pier_robots:
-        st = replace(st, piers=st.piers + ((st.front_s_cm, 0),))
+        st = evolve(st, piers=st.piers + ((st.front_s_cm, 0),))
         tk.ev("pier_site", st.members[0], s_cm=round(st.front_s_cm, 6), robots_needed=p.pier_robots)
     failed = known_failed_free(tk)
     # the failed robot nearest the structure's rear
@@ -194,7 +193,7 @@ def start(tk: Tick) -> None:
     c = chosen[0]
     tk.mode[c] = _RECRUIT
     tk.mode[f] = _RECRUIT  # it is being moved (by the carrier)
-    tk.st = replace(st, action="pier", pier_job=(c, f), pier_stage="fetch", pier_goal=(gx, gy),
+    tk.st = evolve(st, action="pier", pier_job=(c, f), pier_stage="fetch", pier_goal=(gx, gy),
                     pier_best_cm=math.inf, pier_progress_s=tk.t, progress_s=tk.t)
     tk.ev("pier_fetch", c, failed=f)
 
@@ -260,18 +259,18 @@ def advance(tk: Tick) -> None:
             tk.progress()
         if arrived:
             if stage == "fetch":
-                tk.st = replace(tk.st, pier_stage="tow", pier_best_cm=math.inf, pier_progress_s=tk.t)
+                tk.st = evolve(tk.st, pier_stage="tow", pier_best_cm=math.inf, pier_progress_s=tk.t)
             else:
                 n_rows = len(st.members)
                 ride = (n_rows * L + max(st.front_s_cm, 0.0)) / p.speed_cm_s
-                tk.st = replace(tk.st, pier_stage="carry", pier_until_s=tk.t + p.climb_s_per_layer + ride,
+                tk.st = evolve(tk.st, pier_stage="carry", pier_until_s=tk.t + p.climb_s_per_layer + ride,
                                 progress_s=tk.t)
                 tk.ev("pier_carry", c, failed=f)
             return
         if tk.t - since > p.recruit_stall_s:
             abort(tk, "the carrier made no progress")
             return
-        tk.st = replace(tk.st, pier_best_cm=best, pier_progress_s=since)
+        tk.st = evolve(tk.st, pier_best_cm=best, pier_progress_s=since)
         return
     # on the structure: the pair rides along its axis (drawn on top of the members)
     dir_h = math.atan2(st.dir_y, st.dir_x)
@@ -285,7 +284,7 @@ def advance(tk: Tick) -> None:
             tk.x[r], tk.y[r], tk.h[r] = rear_x + u * (fx_ - rear_x), rear_y + u * (fy_ - rear_y), dir_h
         if left <= 0:
             s_pier, k = st.piers[-1]
-            tk.st = replace(tk.st, pier_stage="lower", pier_progress_s=tk.t,
+            tk.st = evolve(tk.st, pier_stage="lower", pier_progress_s=tk.t,
                             pier_until_s=tk.t + p.climb_s_per_layer * max(1, p.pier_robots - k), progress_s=tk.t)
         return
     if stage == "lower":
@@ -299,7 +298,7 @@ def advance(tk: Tick) -> None:
         tk.sidx[f], tk.sline[f], tk.slayer[f], tk.sopp[f] = 0, -1, -(k + 1), -1
         piers = st.piers[:-1] + ((s_pier, k + 1),)
         ride = (len(st.members) * L + max(st.front_s_cm, 0.0)) / p.speed_cm_s
-        tk.st = replace(tk.st, piers=piers, pier_members=st.pier_members + (f,), pier_stage="return",
+        tk.st = evolve(tk.st, piers=piers, pier_members=st.pier_members + (f,), pier_stage="return",
                         pier_progress_s=tk.t, pier_until_s=tk.t + ride + p.climb_s_per_layer, progress_s=tk.t)
         tk.ev("pier_lowered", f, pier=len(piers) - 1, robots=k + 1, needed=p.pier_robots)
         if k + 1 >= p.pier_robots:
@@ -315,7 +314,7 @@ def advance(tk: Tick) -> None:
 
             release(tk, c, dir_h + math.pi, _EXPLORE)
             tk.disp[c] = 0.0
-            tk.st = replace(tk.st, action="idle", pier_job=(), pier_stage="", progress_s=tk.t)
+            tk.st = evolve(tk.st, action="idle", pier_job=(), pier_stage="", progress_s=tk.t)
             tk.ev("pier_carrier_back", c)
 
 
@@ -326,7 +325,7 @@ def abort(tk: Tick, why: str) -> None:
     c, f = st.pier_job
     tk.mode[c] = _EXPLORE
     tk.mode[f] = _EXPLORE
-    tk.st = replace(st, action="idle", pier_job=(), pier_stage="", passed_over=st.passed_over + (c,))
+    tk.st = evolve(st, action="idle", pier_job=(), pier_stage="", passed_over=st.passed_over + (c,))
     tk.ev("pier_aborted", c, failed=f, why=why)
 
 

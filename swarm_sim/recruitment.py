@@ -22,17 +22,16 @@
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 
 from . import structure as S
 from .faults import DRIVE, TOTAL
 from .motion import drive_along, goto
-from .navigation import CostField, cost_field, disc_clear, footprint_mask, nav_grid
+from .navigation import _FIELDS, CostField, cost_field, disc_clear, footprint_mask, nav_grid
 from .params import Params
 from .retreat import start_retreat
-from .state import OPEN, Mode, Structure
+from .state import OPEN, Mode, Structure, evolve
 from .tick import Tick
 from .world import World
 
@@ -129,6 +128,14 @@ def slot_field(st: Structure, p: Params, world: World, slot: int) -> tuple[CostF
     return out
 
 
+def forget_fields() -> None:
+    """Forget every cost field made so far (the slot fields here and
+    :mod:`swarm_sim.navigation`'s cache): the next run computes each field it asks for. A
+    benchmark calls this before each timed run so no run finds another's fields."""
+    _SLOT_FIELDS.clear()
+    _FIELDS.clear()
+
+
 def _slot_field(st: Structure, p: Params, world: World, slot: int) -> tuple[CostField, float, float]:
     dx, dy, _, _ = S.slot_pose(st, slot, p.robot_length_cm, p.robot_width_cm)
     ax, ay = approach_point(world, dx, dy, st.dir_x, st.dir_y, p.robot_length_cm)
@@ -196,7 +203,7 @@ def call(tk: Tick, slot_ids: list[int]) -> list[int]:
         return chosen
     tk.mode[chosen] = _RECRUIT
     n = len(chosen)
-    tk.st = replace(st, action="recruit", recruits=tuple(chosen), recruit_slots=tuple(slot_ids[:n]),
+    tk.st = evolve(st, action="recruit", recruits=tuple(chosen), recruit_slots=tuple(slot_ids[:n]),
                     recruit_best_cm=(math.inf,) * n, recruit_progress_s=(tk.t,) * n,
                     recruit_final=(False,) * n)
     tk.ev("recruit", chosen[0], n=len(st.members), robots=chosen)
@@ -247,7 +254,7 @@ def approach(tk: Tick) -> None:
             stalled.append(i)
     best, since, final = tuple(best), tuple(since), tuple(final)
     if (best, since, final) != (st.recruit_best_cm, st.recruit_progress_s, st.recruit_final):
-        tk.st = replace(tk.st, recruit_best_cm=best, recruit_progress_s=since, recruit_final=final)
+        tk.st = evolve(tk.st, recruit_best_cm=best, recruit_progress_s=since, recruit_final=final)
     if arrived_all:
         dock(tk)
         return
@@ -272,7 +279,7 @@ def dock(tk: Tick) -> None:
         members = st.members + st.recruits
     tk.mode[list(st.recruits)] = _MEMBER
     tk.ev("dock", st.recruits[0], index=len(members), robots=list(st.recruits))
-    tk.st = replace(st, members=members, recruits=(), recruit_slots=(), recruit_best_cm=(), recruit_progress_s=(),
+    tk.st = evolve(st, members=members, recruits=(), recruit_slots=(), recruit_best_cm=(), recruit_progress_s=(),
                     recruit_final=(), passed_over=(), action="idle", progress_s=tk.t)
 
 
@@ -284,7 +291,7 @@ def hand_over(tk: Tick, i: int) -> bool:
     tk.mode[r] = _EXPLORE
     if tk.is_failed(r, TOTAL):  # no motion, and no answer when the structure asks (a stuck robot answers)
         tk.detect(r, "no_motion_when_called")
-    tk.st = st = replace(st, passed_over=st.passed_over + (r,))
+    tk.st = st = evolve(st, passed_over=st.passed_over + (r,))
     field = slot_field(st, tk.p, tk.world, slot)[0]
     pool = [int(c) for c in candidates(tk)]
     nxt = answering(tk, [field], pool)
@@ -298,7 +305,7 @@ def hand_over(tk: Tick, i: int) -> bool:
     rec, best, since, fin = (list(st.recruits), list(st.recruit_best_cm), list(st.recruit_progress_s),
                              list(st.recruit_final))
     rec[i], best[i], since[i], fin[i] = n, math.inf, tk.t, False
-    tk.st = replace(st, recruits=tuple(rec), recruit_best_cm=tuple(best), recruit_progress_s=tuple(since),
+    tk.st = evolve(st, recruits=tuple(rec), recruit_best_cm=tuple(best), recruit_progress_s=tuple(since),
                     recruit_final=tuple(fin))
     tk.ev("hand_over", r, slot=int(slot), to=n)
     return True
@@ -309,7 +316,7 @@ def call_off(tk: Tick) -> None:
     st = tk.st
     if st.recruits:
         tk.mode[list(st.recruits)] = _EXPLORE
-    tk.st = replace(st, recruits=(), recruit_slots=(), recruit_best_cm=(), recruit_progress_s=(), recruit_final=(),
+    tk.st = evolve(st, recruits=(), recruit_slots=(), recruit_best_cm=(), recruit_progress_s=(), recruit_final=(),
                     action="idle" if st.action == "recruit" else st.action)
 
 
@@ -324,5 +331,5 @@ def open_slots(st: Structure) -> list[int]:
     return [len(st.members) + q for q in range(n_slots)]
 
 
-__all__ = ["approach", "approach_point", "call", "call_off", "candidates", "closest", "dock", "hand_over",
-           "free_robots", "open_slots", "path_costs", "slot_field", "answering", "OPEN"]
+__all__ = ["approach", "approach_point", "call", "call_off", "candidates", "closest", "dock", "forget_fields",
+           "hand_over", "free_robots", "open_slots", "path_costs", "slot_field", "answering", "OPEN"]

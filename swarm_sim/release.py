@@ -13,14 +13,13 @@
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 
 from . import structure as S
 from . import taper as T
 from .faults import DRIVE
-from .state import OPEN, Mode
+from .state import OPEN, Mode, evolve
 from .tick import Tick
 
 DISPERSE_S = 2.0  # released robots drive straight away from the structure this long
@@ -87,10 +86,10 @@ def release_front(tk: Tick, g: T.ShellGeometry | None) -> None:
         tk.mode[r] = _RECRUIT
         tk.sidx[r], tk.sline[r], tk.slayer[r], tk.sopp[r] = 0, -1, -1, 1
     members = st.members[k:]
-    st = replace(st, members=members, front_s_cm=st.front_s_cm - L, action="wait",
+    st = evolve(st, members=members, front_s_cm=st.front_s_cm - L, action="wait",
                  wait_until_s=tk.t + p.release_clear_s, progress_s=tk.t)
     if to_far:
-        st = replace(st, job=tuple(to_far), job_cols=tuple(far_cols[:len(to_far)]), job_kind="fill_far",
+        st = evolve(st, job=tuple(to_far), job_cols=tuple(far_cols[:len(to_far)]), job_kind="fill_far",
                      job_stage="drive", job_until_s=0.0, job_best_cm=(math.inf,) * len(to_far),
                      job_progress_s=(tk.t,) * len(to_far))
     tk.st = st
@@ -106,6 +105,6 @@ def release_rear(tk: Tick) -> None:
     back = math.atan2(-st.dir_y, -st.dir_x)
     for r in row:
         release(tk, r, back, _RETREAT)
-    tk.st = replace(st, members=members, action="wait", wait_until_s=tk.t + tk.p.release_clear_s,
+    tk.st = evolve(st, members=members, action="wait", wait_until_s=tk.t + tk.p.release_clear_s,
                     progress_s=tk.t)
     tk.ev("release_rear", row[0], n_left=len(members), robots=list(row))

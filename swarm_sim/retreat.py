@@ -24,9 +24,7 @@ reaches it, the tests check that).
 
 from __future__ import annotations
 
-from dataclasses import replace
-
-from .state import OPEN, Mode, Phase
+from .state import OPEN, Mode, Phase, evolve
 from .tick import Tick
 
 REASONS = {
@@ -48,7 +46,7 @@ def start_retreat(tk: Tick, why: str, counts=None, free: int | None = None) -> N
     st = tk.st
     if st.retreating:
         return
-    tk.st = replace(st, retreating=True, progress_s=tk.t)
+    tk.st = evolve(st, retreating=True, progress_s=tk.t)
     data = {"n": len(st.members), "why": why}
     if counts is not None:
         data.update(n_p=counts.n_p, n_g=counts.n_g)

@@ -22,7 +22,6 @@ working copy (:class:`swarm_sim.tick.Tick`):
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 
@@ -37,7 +36,7 @@ from . import taper as T
 from .explore import walk
 from .faults import DRIVE, SENSOR, fail
 from .params import at_level, level_params
-from .state import OPEN, WALKING_MODES, Mode, Phase, Structure, SwarmState
+from .state import OPEN, WALKING_MODES, Mode, Phase, Structure, SwarmState, evolve
 from .tick import Tick
 from .world import wrap
 
@@ -121,7 +120,7 @@ def _align(tk: Tick) -> None:
     if gap > dist:
         tk.x[s0] = hx + dist
         return
-    tk.st = replace(st, origin_y_cm=hy, front_s_cm=0.0, action="idle", progress_s=tk.t)
+    tk.st = evolve(st, origin_y_cm=hy, front_s_cm=0.0, action="idle", progress_s=tk.t)
     tk.mode[s0] = _MEMBER
     tk.seed_pos = (round(world.x0_cm - 0.5 * p.robot_length_cm, 6), round(hy, 6))
     tk.ev("aligned", s0, x_cm=tk.seed_pos[0], y_cm=tk.seed_pos[1])
@@ -129,7 +128,7 @@ def _align(tk: Tick) -> None:
 
 def _wait(tk: Tick) -> None:
     if tk.t >= tk.st.wait_until_s:
-        tk.st = replace(tk.st, action="idle")
+        tk.st = evolve(tk.st, action="idle")
 
 
 def _slide(tk: Tick) -> None:
@@ -141,11 +140,11 @@ def _slide(tk: Tick) -> None:
     sgn = 1.0 if st.action == "advance" else -1.0
     f = st.front_s_cm + sgn * p.speed_cm_s * p.dt_s
     if (f - st.goal_s_cm) * sgn >= -EPS_MOVE:
-        st = replace(st, front_s_cm=st.goal_s_cm, action="idle", progress_s=tk.t)
+        st = evolve(st, front_s_cm=st.goal_s_cm, action="idle", progress_s=tk.t)
     else:
-        st = replace(st, front_s_cm=f)
+        st = evolve(st, front_s_cm=f)
     if not st.landed and st.front_s_cm + tk.world.detect_cm >= p.void_width_cm - 1e-6 and DT.front_sees(tk):
-        st = replace(st, landed=True)
+        st = evolve(st, landed=True)
         tk.ev("far_ledge", st.members[0], front_s_cm=round(st.front_s_cm, 6))
     tk.st = st
 
@@ -182,13 +181,13 @@ def _recruit(tk: Tick, ctx: dict) -> None:
 
 def _advance(tk: Tick, ctx: dict) -> None:
     st = tk.st
-    tk.st = replace(st, action="advance", goal_s_cm=st.front_s_cm + tk.p.robot_length_cm)
+    tk.st = evolve(st, action="advance", goal_s_cm=st.front_s_cm + tk.p.robot_length_cm)
     c = ctx["sit"].counts
     tk.ev("advance", st.members[0], n_p=c.n_p, n_g=c.n_g, n_o=c.n_o)
 
 
 def _back(tk: Tick, ctx: dict) -> None:
-    tk.st = replace(tk.st, action="back", goal_s_cm=tk.st.front_s_cm - tk.p.robot_length_cm)
+    tk.st = evolve(tk.st, action="back", goal_s_cm=tk.st.front_s_cm - tk.p.robot_length_cm)
 
 
 def _switch(tk: Tick, ctx: dict) -> None:
@@ -207,9 +206,9 @@ def _switch(tk: Tick, ctx: dict) -> None:
             # the feet would stick out of the arena beside this core line: give up
             RT.start_retreat(tk, "no_room_for_the_feet", sit.counts, ctx["free"])
             return
-        tk.st = replace(st, members=members, lines=2, layers=1, level=nxt, shell=shell, progress_s=tk.t)
+        tk.st = evolve(st, members=members, lines=2, layers=1, level=nxt, shell=shell, progress_s=tk.t)
     else:
-        tk.st = replace(st, members=S.widened(st, pl.lines, pl.layers), lines=pl.lines, layers=pl.layers,
+        tk.st = evolve(st, members=S.widened(st, pl.lines, pl.layers), lines=pl.lines, layers=pl.layers,
                         level=nxt, progress_s=tk.t)
     tk.ev("switch", tk.st.members[0], level=pl.level_name, lines=pl.lines, layers=pl.layers,
           n_p=sit.counts.n_p, n_g=sit.counts.n_g, rows=S.all_rows(tk.st))
@@ -253,7 +252,7 @@ def decide(tk: Tick) -> None:
         return  # every member is silent (swarm_sim.detection.watch ends it)
     g = feet.geometry(st, p)
     if g is not None and not st.shell:
-        tk.st = st = replace(st, shell=T.empty_shell(g))
+        tk.st = st = evolve(st, shell=T.empty_shell(g))
     free = RC.candidates(tk)
     action, sit, ctx = choose(st, p, tk.world, g, int(free.size))
     if g is None and sit.span_blocked and p.pier_robots and not st.landed:
@@ -332,7 +331,7 @@ def watch(tk: Tick, before: Structure | None = None) -> None:
         if tk.st.job and tk.st.job_stage == "drive":
             feet.abort_job(tk)
         if tk.st.action in ("advance", "back", "wait"):
-            tk.st = replace(tk.st, action="idle")
+            tk.st = evolve(tk.st, action="idle")
         RT.start_retreat(tk, "stalled")
     if tk.fault is not None and tk.st is not None and tk.st.action != "align" and tk.st is not before:
         _place_members(tk)  # where the structure stands now, before the fault handling may end it

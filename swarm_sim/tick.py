@@ -4,12 +4,12 @@ is never mutated) while each phase is a plain function ``phase(tick) -> None``."
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .params import Params
-from .state import Structure, SwarmState
+from .state import Structure, SwarmState, evolve
 from .world import World
 
 
@@ -65,7 +65,7 @@ class Tick:
     def progress(self) -> None:
         """The structure did something (the watchdog of :mod:`swarm_sim.retreat` restarts)."""
         if self.st is not None:
-            self.st = replace(self.st, progress_s=self.t)
+            self.st = evolve(self.st, progress_s=self.t)
 
     def state(self, prev: SwarmState) -> SwarmState:
         """The new state (every field of :class:`SwarmState` given: no ``dataclasses.replace``
