@@ -9,12 +9,19 @@ large void). :func:`borrowed` gives a view whose memory-info pointer is null: nu
 ``NRT_incref``/``NRT_decref`` return at once for a null pointer, so passing it costs a test,
 not an atomic operation.
 
+:func:`float64_at`, :func:`int64_at` and :func:`bool_at` make the same kind of view from a data
+address (:func:`address`): the compiled engine hands its kernel the recruits' cost fields as a
+table of addresses, so a field is read where it lies (and seen as it settles further) instead of
+being copied into one stacked array per call.
+
 A borrowed view does not keep its array alive. Take it inside a compiled function from an
 array that the function itself holds (an argument, or an array it allocated) and pass it only
 to calls that return before that array goes: never return it or store it.
 """
 
 from __future__ import annotations
+
+import numpy as np
 
 from .grid import HAVE_NUMBA
 
@@ -38,5 +45,32 @@ if HAVE_NUMBA:
 
         return arr(arr), codegen
 
+    def _pointer_at(nbtype):
+        @intrinsic
+        def at(typingctx, addr):
+            if not isinstance(addr, types.Integer):
+                return None
 
-__all__ = ["borrowed"] if HAVE_NUMBA else []
+            def codegen(context, builder, sig, args):
+                return builder.inttoptr(args[0], context.get_value_type(sig.return_type))
+
+            return types.CPointer(nbtype)(addr), codegen
+
+        return at
+
+    #: a data pointer from an address (``arr.ctypes.data``), for ``numba.carray(float64_at(a), n)``:
+    #: a borrowed view of an array the compiled code is not passed (the caller keeps it alive)
+    float64_at = _pointer_at(types.float64)
+    int64_at = _pointer_at(types.int64)
+    bool_at = _pointer_at(types.boolean)
+
+
+def address(a: np.ndarray, dtype) -> int:
+    """The data address of ``a`` for :func:`float64_at` / :func:`int64_at` / :func:`bool_at`, after
+    checking that it is a C-contiguous array of ``dtype`` (what the view will read it as)."""
+    if a.dtype != dtype or not a.flags.c_contiguous:
+        raise TypeError(f"a borrowed view needs a C-contiguous {np.dtype(dtype)} array, got {a.dtype}")
+    return a.__array_interface__["data"][0]
+
+
+__all__ = ["address"] + (["bool_at", "borrowed", "float64_at", "int64_at"] if HAVE_NUMBA else [])

@@ -59,7 +59,8 @@ import time
 import numpy as np
 
 from . import pcg64
-from .grid import HAVE_NUMBA, SKIN_CM, numba, workspace
+from .borrow import address
+from .grid import HAVE_NUMBA, numba, workspace
 from .state import OPEN, WALKING_MODES, Mode, Phase, evolve
 
 _EXPLORE, _TARGET = int(Mode.EXPLORE), int(Mode.TARGET)
@@ -84,11 +85,17 @@ R_BATCH, R_SEED, R_GROW, R_WAIT, R_SLIDE_END, R_LEDGE, R_DOCK, R_RSTALL, R_WATCH
 #: 3000 cm coordinate: far above a last-bit difference, far below the 1e-9 cm the edge tests allow)
 _MARGIN = 1e-10
 _MAX_BATCH = 16384  # steps per kernel call at most (it returns earlier when anything discrete happens)
+#: the kernel's Verlet skin (cm). Its list is rebuilt after at most ``KERNEL_SKIN_CM / 2`` cm of
+#: walking (see ``_kernel``: a bound, not a pass over every robot each step); a wider skin than
+#: the walk's (grid.SKIN_CM, 3 cm) means fewer rebuilds for a few more listed pairs. Measured on
+#: large-void recruiting stretches (ns per kernel step, 64-68 walkers): 3 cm 2,190, 10 cm 2,060;
+#: any skin gives the same runs (the list only has to hold every pair closer than ``avoid``).
+KERNEL_SKIN_CM = 10.0
 
 AVAILABLE = HAVE_NUMBA
 
 if HAVE_NUMBA:
-    from .borrow import borrowed
+    from .borrow import bool_at, borrowed, float64_at, int64_at
     from .explore import _walk_kernel, _wrap
     from .grid import verlet_update
     from .pcg64 import jump as pcg_jump
@@ -177,6 +184,18 @@ if HAVE_NUMBA:
             if not (math.pow(x - obs[k, 0], two) + math.pow(y - obs[k, 1], two) > math.pow(obs[k, 2] + r, two)):
                 return False
         return True
+
+    @numba.njit(cache=True, inline="always")
+    def _moved_beyond(x, y, xref, yref, ids, h2):  # pragma: no cover - compiled
+        """Any of the robots ``ids`` farther than ``sqrt(h2)`` cm from where the neighbour list
+        was built (grid.verlet_update's test, for these robots only)."""
+        for q in range(ids.shape[0]):
+            i = ids[q]
+            dx_ = x[i] - xref[i]
+            dy_ = y[i] - yref[i]
+            if dx_ * dx_ + dy_ * dy_ > h2:
+                return True
+        return False
 
     @numba.njit(cache=True, inline="always")
     def _clip(d, tm):  # pragma: no cover - compiled
@@ -356,8 +375,8 @@ if HAVE_NUMBA:
     def _kernel(n_steps, t, dt, x, y, h, goal, run_left, disp, mode, carried, walkers, rw, jt, ws_k, ws_counts,
                 ws_fill, ws_bucket, ws_items, ws_sx, ws_sy, nbr_start, nbr_idx, xref, yref, valid,
                 wf, obs, obs_none, levy, flags, kind, sf, mem_ids, mem_slots, rec_ids, rec_f, rec_final,
-                f_cost, f_nxt, f_closed, f_goal_cell, f_row, grid_i, gcx, gcy, job, job_ids, job_f, j_cost, j_nxt,
-                j_closed, j_goal_cell, j_row):  # pragma: no cover - compiled
+                f_addr, f_goal_cell, f_row, grid_i, gcx, gcy, job, job_ids, job_f, j_addr, j_goal_cell,
+                j_row):  # pragma: no cover - compiled
         """Up to ``n_steps`` whole steps; returns (steps committed, stop reason, t, front_s, progress_s).
 
         ``wf``: world/walk floats (see :func:`fast_forward`); ``flags``: (search phase, target
@@ -370,9 +389,7 @@ if HAVE_NUMBA:
         x, y, h, goal, run_left, walkers, rw, jt, nbr_start, nbr_idx, obs, obs_none = (
             borrowed(x), borrowed(y), borrowed(h), borrowed(goal), borrowed(run_left), borrowed(walkers),
             borrowed(rw), borrowed(jt), borrowed(nbr_start), borrowed(nbr_idx), borrowed(obs), borrowed(obs_none))
-        f_cost, f_nxt, f_closed, j_cost, j_nxt, j_closed, gcx, gcy = (
-            borrowed(f_cost), borrowed(f_nxt), borrowed(f_closed), borrowed(j_cost), borrowed(j_nxt),
-            borrowed(j_closed), borrowed(gcx), borrowed(gcy))
+        gcx, gcy = borrowed(gcx), borrowed(gcy)
         n = x.shape[0]
         k = walkers.shape[0]
         hl, hw, W, H, x0, x1, r, detect, avoid, dist, turn_max, mu, lmin, lmax, p_turn, turn_rad = (
@@ -389,6 +406,7 @@ if HAVE_NUMBA:
                 sf[0], sf[1], sf[2], sf[3], sf[4], sf[5], sf[6], sf[7], sf[8], sf[9], sf[10], sf[11], sf[12],
                 sf[13], sf[14], sf[15], sf[16], sf[17], sf[18], sf[19])
         k_row, lines, gnx, gny, window, hops = grid_i[0], grid_i[1], grid_i[2], grid_i[3], grid_i[4], grid_i[5]
+        cells = gnx * gny
         nr = rec_ids.shape[0]
         nj = job_ids.shape[0]
         job_until = sf[20]
@@ -425,7 +443,26 @@ if HAVE_NUMBA:
         # the walk's own arrays as borrowed views (the arguments are borrowed above)
         vstraight, vno_u, vbx, vby, vhc, vhs = (borrowed(straight), borrowed(no_u), borrowed(bx), borrowed(by),
                                                  borrowed(hc), borrowed(hs))
-        half_skin2 = 0.25 * SKIN_CM * SKIN_CM  # grid.verlet_update's h2
+        # The neighbour list's validity (grid.verlet_update: no robot has moved more than half the
+        # skin since its rebuild) without a pass over every robot each step: ``moved`` bounds how far
+        # the walkers and the robots standing still have moved since the rebuild (the farthest any
+        # robot was at this call's start, plus one walk step per committed step: a walker moves at
+        # most ``dist``, forward or by a fallback); the robots the kernel drives (the seed aligning,
+        # a sliding structure's members, recruits, a foot round's robots) are tested exactly.
+        skin = KERNEL_SKIN_CM
+        half_skin = 0.5 * skin
+        half_skin2 = half_skin * half_skin
+        walk_len = dist * (1.0 + 1e-9) + 1e-9  # a walk step's length, with room for its rounding
+        moved = 0.0
+        if k and valid[0] == 1:
+            m2 = 0.0
+            for i in range(n):
+                dx_ = x[i] - xref[i]
+                dy_ = y[i] - yref[i]
+                d2 = dx_ * dx_ + dy_ * dy_
+                if d2 > m2:
+                    m2 = d2
+            moved = math.sqrt(m2)
         q4 = 0.5 * hw  # = 0.25 * width (World.void_ahead), exactly
         sense = hl + q4 + detect + 1.0  # no ground sensor reaches farther from the centre (cm)
         for j in range(n_steps):
@@ -452,18 +489,23 @@ if HAVE_NUMBA:
                 bg[i] = goal[i]
                 br[i] = run_left[i]
             if k:
-                # verlet_update's own validity test, here: the call (16 arrays) costs more than the test
-                # on most steps, when no robot has moved half the skin since the last rebuild
-                stale = valid[0] != 1
-                for i in range(n):
-                    if stale:
-                        break
-                    dx_ = bx[i] - xref[i]
-                    dy_ = by[i] - yref[i]
-                    stale = dx_ * dx_ + dy_ * dy_ > half_skin2
-                if stale and verlet_update(bx, by, avoid + SKIN_CM, SKIN_CM, ws_k, ws_counts, ws_fill, ws_bucket,
-                                           ws_items, ws_sx, ws_sy, nbr_start, nbr_idx, xref, yref, valid) == -1:
-                    return j, R_GROW, t, front, progress
+                # the list's validity (above); verlet_update is called only for a rebuild
+                stale = valid[0] != 1 or moved > half_skin
+                if not stale:
+                    if kind == K_ALIGN:
+                        stale = _moved_beyond(bx, by, xref, yref, mem_ids[:1], half_skin2)
+                    elif kind == K_SLIDE:
+                        stale = _moved_beyond(bx, by, xref, yref, mem_ids, half_skin2)
+                    elif kind == K_RECRUIT:
+                        stale = _moved_beyond(bx, by, xref, yref, rec_ids, half_skin2)
+                    if job == J_DRIVE and not stale:
+                        stale = _moved_beyond(bx, by, xref, yref, job_ids, half_skin2)
+                if stale:
+                    valid[0] = 0  # rebuilt now
+                    moved = 0.0
+                    if verlet_update(bx, by, avoid + skin, skin, ws_k, ws_counts, ws_fill, ws_bucket, ws_items,
+                                     ws_sx, ws_sy, nbr_start, nbr_idx, xref, yref, valid) == -1:
+                        return j, R_GROW, t, front, progress
                 for q in range(k):
                     straight[q] = disp[walkers[q]] > 0
                 # the step's 4 x k uniforms are the generator's own stream from ``rw``: the walk
@@ -532,15 +574,18 @@ if HAVE_NUMBA:
                         ax = rec_f[q, 2]
                         ay = rec_f[q, 3]
                         in_h = rec_in_h[q]
-                        fr = f_row[q]
-                        nx, ny, nh, fin, read = _drive_along(rx, ry, rh, in_h, in_h, f_cost[fr], f_nxt[fr],
-                                                             f_closed[fr], f_goal_cell[q], ax, ay, cell, gnx, gny,
-                                                             window, gcx, gcy, blocked, hops, dist, turn_max, hl,
-                                                             hw, W, H, x0w, x1w, obs, r, two)
+                        fr = f_row[q]  # its field's cost, next cell and closed cells, where they lie
+                        fc = numba.carray(float64_at(f_addr[fr, 0]), cells)
+                        fx = numba.carray(int64_at(f_addr[fr, 1]), cells)
+                        fz = numba.carray(bool_at(f_addr[fr, 2]), cells)
+                        nx, ny, nh, fin, read = _drive_along(rx, ry, rh, in_h, in_h, fc, fx, fz, f_goal_cell[q],
+                                                             ax, ay, cell, gnx, gny, window, gcx, gcy, blocked,
+                                                             hops, dist, turn_max, hl, hw, W, H, x0w, x1w, obs, r,
+                                                             two)
                         nfinal[q] = fin
-                        here = _cost_at(nx, ny, f_cost[fr], f_closed[fr], cell, gnx, gny, window, gcx, gcy, blocked)
-                        if not (_final(read, rec_f[q, 6], rx, ry, f_closed[fr], cell, gnx, gny, window)
-                                and _final(here, rec_f[q, 6], nx, ny, f_closed[fr], cell, gnx, gny, window)):
+                        here = _cost_at(nx, ny, fc, fz, cell, gnx, gny, window, gcx, gcy, blocked)
+                        if not (_final(read, rec_f[q, 6], rx, ry, fz, cell, gnx, gny, window)
+                                and _final(here, rec_f[q, 6], nx, ny, fz, cell, gnx, gny, window)):
                             stop = R_FIELD  # the field is not settled this far yet (fast_forward settles it)
                         left = here + rec_tail[q]
                     x[ri] = nx  # undone from the snapshot if the step is not committed
@@ -569,17 +614,19 @@ if HAVE_NUMBA:
                     ox_ = x[ri]
                     oy_ = y[ri]
                     jr = j_row[q]
-                    nx, ny, nh, _, read = _drive_along(x[ri], y[ri], h[ri], dir_h, dir_h, j_cost[jr], j_nxt[jr],
-                                                       j_closed[jr], j_goal_cell[q], jgx, jgy, cell, gnx, gny, window,
-                                                       gcx, gcy, blocked, hops, dist, turn_max, hl, hw, W, H, x0w,
-                                                       x1w, obs, r, two)
+                    fc = numba.carray(float64_at(j_addr[jr, 0]), cells)
+                    fx = numba.carray(int64_at(j_addr[jr, 1]), cells)
+                    fz = numba.carray(bool_at(j_addr[jr, 2]), cells)
+                    nx, ny, nh, _, read = _drive_along(x[ri], y[ri], h[ri], dir_h, dir_h, fc, fx, fz, j_goal_cell[q],
+                                                       jgx, jgy, cell, gnx, gny, window, gcx, gcy, blocked, hops, dist,
+                                                       turn_max, hl, hw, W, H, x0w, x1w, obs, r, two)
                     x[ri] = nx  # undone from the snapshot if the step is not committed
                     y[ri] = ny
                     h[ri] = nh
-                    left = _cost_at(nx, ny, j_cost[jr], j_closed[jr], cell, gnx, gny, window, gcx, gcy, blocked)
+                    left = _cost_at(nx, ny, fc, fz, cell, gnx, gny, window, gcx, gcy, blocked)
                     if stop == R_BATCH and not (
-                            _final(read, job_f[q, 4], ox_, oy_, j_closed[jr], cell, gnx, gny, window)
-                            and _final(left, job_f[q, 4], nx, ny, j_closed[jr], cell, gnx, gny, window)):
+                            _final(read, job_f[q, 4], ox_, oy_, fz, cell, gnx, gny, window)
+                            and _final(left, job_f[q, 4], nx, ny, fz, cell, gnx, gny, window)):
                         stop = R_FIELD
                     if left < jbest[q] - half_cell:
                         jbest[q] = left
@@ -671,6 +718,7 @@ if HAVE_NUMBA:
                     job_f[q, 3] = jsince[q]
             progress = nprogress
             t = tn
+            moved += walk_len
         return n_steps, R_BATCH, t, front, progress
 
 
@@ -758,7 +806,6 @@ def _holds(state, p, world) -> bool:
 
 
 _CONTEXTS: dict = {}
-_STACKS: dict = {}
 
 
 def _context(p, world) -> tuple:
@@ -785,39 +832,17 @@ def _context(p, world) -> tuple:
     return out
 
 
-def _stacked(fields: list) -> tuple:
-    """The recruits' cost fields for the kernel: (R', cells) arrays of cost, next cell and closed
-    cells, the goal cell of each field asked for and its row in those arrays. A stack already
-    built that holds every field asked for (the same objects, settled no further since: their
-    ``version``) is reused, so the recruits left after a dock read the stack of the call that
-    chose them (a stack of eight 100,000-cell fields costs ~2 ms on the large void). One field is
-    passed as views of its own arrays (settled in place, seen at once)."""
+def _field_table(fields: list) -> tuple:
+    """The cost fields for the kernel, read where they lie: per field the data addresses of its
+    cost, next-cell and closed arrays (``(F, 3)`` int64: :func:`swarm_sim.borrow.address`), the
+    goal cell of each and its row. A field settled further (``CostField.extend``) is settled in
+    place, so the kernel sees it at once; the caller keeps ``fields`` (and so the arrays) alive
+    while the kernel runs. (Before, the fields were copied into one stacked array per call:
+    ~2 ms for eight 100,000-cell fields on the large void.)"""
+    addr = np.array([(address(f.cost, np.float64), address(f.nxt, np.int64), address(f.closed, np.bool_))
+                     for f in fields], dtype=np.int64).reshape(len(fields), 3)
     goal = np.array([f.goal_cell for f in fields], dtype=np.int64)
-    recent = _STACKS.setdefault("recent", [])
-    for entry in reversed(recent):
-        objs, vers, arrays = entry
-        rows = []
-        for f in fields:
-            r = next((k for k, o in enumerate(objs) if o is f), -1)
-            if r < 0 or vers[r] != f.version:
-                break
-            rows.append(r)
-        else:  # in use again: the most recent, so the next stack built never takes its buffers
-            recent.remove(entry)
-            recent.append(entry)
-            return (*arrays, goal, np.array(rows, dtype=np.int64))
-    if len(fields) == 1:  # views: the kernel reads the field itself (settled in place), no copy
-        f = fields[0]
-        return f.cost[None, :], f.nxt[None, :], f.closed[None, :], goal, np.zeros(1, np.int64)
-    n, cells = len(fields), fields[0].cost.shape[0]
-    old = recent.pop(0)[2] if len(recent) >= 2 else None  # the recruits' stack and the foot round's are kept
-    if old is None or old[0].shape[0] < n or old[0].shape[1] != cells:
-        old = (np.empty((n, cells)), np.empty((n, cells), np.int64), np.empty((n, cells), np.bool_))
-    # into the evicted stack's buffers: fresh 10 MB arrays cost their page faults (~5 ms against ~0.7)
-    arrays = tuple(np.stack([getattr(f, a) for f in fields], out=b[:n]) for a, b in
-                   zip(("cost", "nxt", "closed"), old, strict=True))
-    recent.append((list(fields), [f.version for f in fields], arrays))
-    return (*arrays, goal, np.arange(n, dtype=np.int64))
+    return addr, goal, np.arange(len(fields), dtype=np.int64)
 
 
 def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False, max_steps: int | None = None,
@@ -863,16 +888,14 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
     rec_ids = np.zeros(0, np.int64)
     rec_f = np.zeros((0, 7))
     rec_final = np.zeros(0, np.bool_)
-    f_cost = np.zeros((0, 1))
-    f_nxt = np.zeros((0, 1), np.int64)
-    f_closed = np.zeros((0, 1), np.bool_)
+    f_addr = np.zeros((0, 3), np.int64)
     f_goal = np.zeros(0, np.int64)
     f_row = np.zeros(0, np.int64)
     sf = np.zeros(21)
     job = J_NONE
     job_ids = np.zeros(0, np.int64)
     job_f = np.zeros((0, 5))
-    j_cost, j_nxt, j_closed, j_goal, j_row = f_cost, f_nxt, f_closed, f_goal, f_row
+    j_addr, j_goal, j_row = f_addr, f_goal, f_row
     jfields: list = []
     if st is not None:
         dir_h = math.atan2(st.dir_y, st.dir_x)
@@ -889,7 +912,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
             rec_f = np.array([[dxp, dyp, f.goal_x, f.goal_y, b, s_, f.front] for (f, dxp, dyp), b, s_ in
                               zip(fields, st.recruit_best_cm, st.recruit_progress_s, strict=True)], dtype=np.float64)
             rec_final = np.asarray(st.recruit_final, dtype=np.bool_)
-            f_cost, f_nxt, f_closed, f_goal, f_row = _stacked([f for f, _, _ in fields])
+            f_addr, f_goal, f_row = _field_table([f for f, _, _ in fields])
             if carried[rec_ids].any():
                 return state, 0
         if st.shell:  # the feet's robots stand at their slots (carried by the structure)
@@ -907,7 +930,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
                 job_ids = np.asarray(st.job, dtype=np.int64)
                 job_f = np.array([[f.goal_x, f.goal_y, b, s_, f.front] for f, b, s_ in
                                   zip(jfields, st.job_best_cm, st.job_progress_s, strict=True)], dtype=np.float64)
-                j_cost, j_nxt, j_closed, j_goal, j_row = _stacked(jfields)
+                j_addr, j_goal, j_row = _field_table(jfields)
                 if carried[job_ids].any():
                     return state, 0
             else:
@@ -915,7 +938,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
                 sf[20] = st.job_until_s
     else:
         grid_i = np.array([1, 1, grid.nx, grid.ny, grid.window, _HOPS], dtype=np.int64)
-    ws = workspace(n)
+    ws = workspace(n, "kernel")
     x, y, h = state.x_cm.copy(), state.y_cm.copy(), state.heading_rad.copy()
     goal, run_left, disp = state.goal_heading_rad.copy(), state.run_left_cm.copy(), state.disperse_left_s.copy()
     t, front, progress = state.t_s, sf[1], sf[14]
@@ -931,8 +954,8 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
         j, reason, t, front, progress = _kernel(
             S, t, p.dt_s, x, y, h, goal, run_left, disp, mode, carried, walkers, rw, jt, *ws[:7], *ws[7:], wf,
             world.obstacles, obs_none, p.walk == "levy", flags, kind, sf, mem_ids, mem_slots, rec_ids,
-            rec_f, rec_final, f_cost, f_nxt, f_closed, f_goal, f_row, grid_i, grid.cx, grid.cy, job, job_ids,
-            job_f, j_cost, j_nxt, j_closed, j_goal, j_row)
+            rec_f, rec_final, f_addr, f_goal, f_row, grid_i, grid.cx, grid.cy, job, job_ids, job_f, j_addr, j_goal,
+            j_row)
         total += j
         if stats is not None:
             stats["kernel_cpu_s"] = stats.get("kernel_cpu_s", 0.0) + time.process_time() - t_cpu
@@ -941,16 +964,16 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
             stops = stats.setdefault("stops", {})
             stops[why] = stops.get(why, 0) + 1
         if reason == R_FIELD:  # a recruit or foot robot reached cells its field has not settled yet
-            if kind == K_RECRUIT:
+            if kind == K_RECRUIT:  # (settled in place: the kernel reads the fields where they lie)
                 for f, _, _ in fields:
                     f.extend(f.front)
-                f_cost, f_nxt, f_closed, f_goal, f_row = _stacked([f for f, _, _ in fields])
                 rec_f[:, 6] = [f.front for f, _, _ in fields]
             if job == J_DRIVE:
                 for f in jfields:
                     f.extend(f.front)
-                j_cost, j_nxt, j_closed, j_goal, j_row = _stacked(jfields)
                 job_f[:, 4] = [f.front for f in jfields]
+        elif reason == R_GROW:  # more close pairs than the list has room for: grow it, go on
+            ws[8] = np.empty(2 * ws[8].shape[0], np.int64)
         elif reason != R_BATCH:
             break
         sf[1], sf[14] = front, progress

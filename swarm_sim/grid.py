@@ -206,10 +206,12 @@ _WORKSPACES: dict = {}
 SKIN_CM = 3.0  # Verlet skin: the list is rebuilt once some robot has moved SKIN_CM / 2
 
 
-def workspace(n: int) -> tuple:
+def workspace(n: int, owner: str = "walk") -> tuple:
     """Reusable buffers for ``n`` robots: grid (k, counts, fill, bucket, items, sx, sy) and
-    Verlet list (nbr_start, nbr_idx, xref, yref, valid)."""
-    ws = _WORKSPACES.get(n)
+    Verlet list (nbr_start, nbr_idx, xref, yref, valid). Each ``owner`` has its own (a Verlet
+    list is valid only under the skin it was built with: the compiled engine's kernel uses a
+    wider one than the walk, :data:`swarm_sim.compiled.KERNEL_SKIN_CM`)."""
+    ws = _WORKSPACES.get((n, owner))
     if ws is None:
         k = 1
         while k * k < 2 * n:
@@ -220,7 +222,7 @@ def workspace(n: int) -> tuple:
               np.zeros(1, np.int64)]
         if len(_WORKSPACES) > 8:
             _WORKSPACES.clear()
-        _WORKSPACES[n] = ws
+        _WORKSPACES[(n, owner)] = ws
     return ws
 
 

@@ -85,6 +85,24 @@ def test_compiled_engine_gives_the_reference_run_bit_for_bit(preset, n, w, limit
     assert stats["reference_steps"] < 0.1 * comp.steps, stats
 
 
+def test_the_kernels_own_neighbour_list_grows_when_full_and_the_run_is_the_same():
+    """The kernel keeps its own Verlet list (a wider skin than the walk's, rebuilt on a bound of
+    how far robots can have moved: compiled.KERNEL_SKIN_CM). Started with room for 8 pairs, it
+    must grow (stop reason ``verlet_grow``, then go on) and the run must be the reference's, in
+    a crowd: 40 robots on case D's ground, the structure's members close together."""
+    from swarm_sim import grid
+
+    p = resolve_params("case-d", 40, 3, "thesis", 90.0)
+    ws = list(grid.workspace(p.robots, "kernel"))
+    ws[8] = np.empty(8, np.int64)  # room for 8 listed pairs
+    ws[11][0] = 0  # no list built yet
+    grid._WORKSPACES[(p.robots, "kernel")] = ws
+    _, comp, stats = both(p, 11)
+    assert stats["stops"].get("verlet_grow", 0) >= 1, stats["stops"]
+    assert grid._WORKSPACES[(p.robots, "kernel")][8].shape[0] > 8
+    assert stats["kernel_steps"] > 0.9 * comp.steps
+
+
 def test_the_regression_set_covers_every_shipped_preset_and_both_limit_sets():
     from pathlib import Path
 
@@ -349,23 +367,25 @@ def test_the_grid_graph_holds_every_edge_both_ways_and_nothing_else(nx, ny):
         grid_graph(np.array([0, 1]), np.array([1, 2]), np.array([1.0, 1.5]), 3, 1)
 
 
-def test_a_stack_in_use_again_is_never_the_one_the_next_stack_overwrites():
-    """compiled._stacked reuses the last stacks' buffers: the recruits' stack reused in a call (the
-    fields left after a dock) must keep its contents when the foot round's stack is built next."""
+def test_the_kernel_reads_each_field_where_it_lies_and_refuses_an_array_it_would_misread():
+    """compiled._field_table hands the kernel the fields' data addresses (no copy): the table holds
+    each field's own cost, next-cell and closed arrays, and an array of another dtype or layout
+    (which a view from its address would misread) is refused."""
     from types import SimpleNamespace
 
     from swarm_sim import compiled as C
 
     def field(v):
-        return SimpleNamespace(goal_cell=int(v), version=0, cost=np.full(50, float(v)),
-                               nxt=np.full(50, int(v), np.int64), closed=np.zeros(50, bool))
+        return SimpleNamespace(goal_cell=int(v), cost=np.full(50, float(v)), nxt=np.full(50, int(v), np.int64),
+                               closed=np.zeros(50, bool))
 
-    C._STACKS.clear()
-    f = [field(v) for v in range(1, 7)]
-    C._stacked(f[0:2])
-    C._stacked(f[2:4])
-    cost, _nxt, _closed, goal, rows = C._stacked([f[1]])  # a subset of the older stack: reused
-    assert goal.tolist() == [2] and cost[rows[0], 0] == 2.0
-    C._stacked(f[4:6])  # a new stack: it takes the buffers of the stack not in use
-    assert cost[rows[0], 0] == 2.0 and np.all(cost[rows[0]] == f[1].cost)
-    C._STACKS.clear()
+    f = [field(v) for v in (3, 7)]
+    addr, goal, rows = C._field_table(f)
+    assert goal.tolist() == [3, 7] and rows.tolist() == [0, 1]
+    for k, g in enumerate(f):
+        assert addr[k].tolist() == [a.__array_interface__["data"][0] for a in (g.cost, g.nxt, g.closed)]
+    with pytest.raises(TypeError, match="float64"):
+        C._field_table([SimpleNamespace(goal_cell=1, cost=np.zeros(100)[::2], nxt=f[0].nxt, closed=f[0].closed)])
+    with pytest.raises(TypeError, match="int64"):
+        C._field_table([SimpleNamespace(goal_cell=1, cost=f[0].cost, nxt=f[0].nxt.astype(np.int32),
+                                        closed=f[0].closed)])
