@@ -376,14 +376,17 @@ if HAVE_NUMBA:
                 ws_fill, ws_bucket, ws_items, ws_sx, ws_sy, nbr_start, nbr_idx, xref, yref, valid,
                 wf, obs, obs_none, levy, flags, kind, sf, mem_ids, mem_slots, rec_ids, rec_f, rec_final,
                 f_addr, f_goal_cell, f_row, grid_i, gcx, gcy, job, job_ids, job_f, j_addr, j_goal_cell,
-                j_row):  # pragma: no cover - compiled
+                j_row, walked):  # pragma: no cover - compiled
         """Up to ``n_steps`` whole steps; returns (steps committed, stop reason, t, front_s, progress_s).
 
         ``wf``: world/walk floats (see :func:`fast_forward`); ``flags``: (search phase, target
         check, check invariants, retreating, landed, phase WANDER); ``sf``: structure floats;
         ``rec_f`` (R, 7): per recruit dock x, y, goal x, y, best, since, -; ``rec_final`` (R,).
         ``job``: the foot round's stage (J_NONE, J_DRIVE, J_CLIMB), ``sf[20]`` its climb's end (s);
-        ``job_f`` (J, 4): per round robot staging x, y, best, since (:func:`swarm_sim.feet.advance_job`)."""
+        ``job_f`` (J, 4): per round robot staging x, y, best, since (:func:`swarm_sim.feet.advance_job`).
+        ``walked`` (5, n): written when a step is computed but not committed after its walk (every
+        stop but ``seed`` and ``verlet_grow``): x, y, heading, goal heading and run left after that
+        step's walk, for the reference step to take instead of walking again."""
         # the arrays passed on to compiled calls every step (the walk, the recruits' drive) as borrowed
         # views: no reference counts per call (swarm_sim.borrow; the caller holds the arrays)
         x, y, h, goal, run_left, walkers, rw, jt, nbr_start, nbr_idx, obs, obs_none = (
@@ -677,8 +680,23 @@ if HAVE_NUMBA:
                                 yi + ey > H + 1e-6 - _MARGIN:
                             stop = R_INV
                             break
-            if stop != R_BATCH:  # not committed: undo the walk, the reference step does this one (the
-                # stream words ``rw`` move only at the commit)
+            if stop != R_BATCH:  # not committed: the reference step does this one. Its walk is
+                # handed over (``walked``: the walkers as walked, every other robot as it stood; the
+                # robots the kernel drives are never walkers) and the state is left before the step
+                # (the stream words ``rw`` move only at the commit: the caller jumps them)
+                for i in range(n):
+                    walked[0, i] = bx[i]
+                    walked[1, i] = by[i]
+                    walked[2, i] = bh[i]
+                    walked[3, i] = bg[i]
+                    walked[4, i] = br[i]
+                for q in range(k):
+                    i = walkers[q]
+                    walked[0, i] = x[i]
+                    walked[1, i] = y[i]
+                    walked[2, i] = h[i]
+                    walked[3, i] = goal[i]
+                    walked[4, i] = run_left[i]
                 for i in range(n):
                     x[i] = bx[i]
                     y[i] = by[i]
@@ -848,14 +866,17 @@ def _field_table(fields: list) -> tuple:
 def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False, max_steps: int | None = None,
                  stats: dict | None = None):
     """Advance ``state`` by as many whole reference-identical steps as the kernel can (0 when it
-    cannot do the next one); returns (new state, steps advanced). The caller runs the next
-    step with :func:`swarm_sim.step.step`. ``stats`` (optional dict) counts kernel calls,
-    steps, stop reasons and the CPU seconds spent inside the kernel (``kernel_cpu_s``)."""
+    cannot do the next one); returns (new state, steps advanced, walked). The caller runs the
+    next step with :func:`swarm_sim.step.step`, passing ``walked`` on: when not None it is that
+    step's walk, already computed by the kernel (x, y, heading, goal heading, run left; the
+    generator already past its draws), so the reference step does not walk again. ``stats``
+    (optional dict) counts kernel calls, steps, stop reasons and the CPU seconds spent inside
+    the kernel (``kernel_cpu_s``)."""
     if not AVAILABLE or world.shape != "square" or state.phase in _ENDED or not pcg64.supported(rng):
-        return state, 0
+        return state, 0, None
     kind = _kind(state, p, world, check)
     if kind is None:
-        return state, 0
+        return state, 0, None
     from .navigation import _HOPS, BLOCKED
     from .recruitment import slot_field
 
@@ -914,7 +935,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
             rec_final = np.asarray(st.recruit_final, dtype=np.bool_)
             f_addr, f_goal, f_row = _field_table([f for f, _, _ in fields])
             if carried[rec_ids].any():
-                return state, 0
+                return state, 0, None
         if st.shell:  # the feet's robots stand at their slots (carried by the structure)
             sh = np.asarray(st.shell, dtype=np.int64)
             carried[sh[sh != OPEN]] = True
@@ -932,7 +953,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
                                   zip(jfields, st.job_best_cm, st.job_progress_s, strict=True)], dtype=np.float64)
                 j_addr, j_goal, j_row = _field_table(jfields)
                 if carried[job_ids].any():
-                    return state, 0
+                    return state, 0, None
             else:
                 job = J_CLIMB
                 sf[20] = st.job_until_s
@@ -948,6 +969,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
     rw = pcg64.words(rng)  # the kernel draws the walk's uniforms from the stream itself
     jt = np.empty((4 * k, 4), np.uint64)  # a step's 4 x k draws, by jump-ahead (pcg64.jump_table)
     pcg64.jump_table(rw, 4 * k, jt)
+    walked = np.empty((5, n))
     while total < limit:
         S = int(min(_MAX_BATCH, limit - total))
         t_cpu = time.process_time() if stats is not None else 0.0
@@ -955,7 +977,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
             S, t, p.dt_s, x, y, h, goal, run_left, disp, mode, carried, walkers, rw, jt, *ws[:7], *ws[7:], wf,
             world.obstacles, obs_none, p.walk == "levy", flags, kind, sf, mem_ids, mem_slots, rec_ids,
             rec_f, rec_final, f_addr, f_goal, f_row, grid_i, grid.cx, grid.cy, job, job_ids, job_f, j_addr, j_goal,
-            j_row)
+            j_row, walked)
         total += j
         if stats is not None:
             stats["kernel_cpu_s"] = stats.get("kernel_cpu_s", 0.0) + time.process_time() - t_cpu
@@ -979,10 +1001,15 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
         sf[1], sf[14] = front, progress
     if stats is not None:
         stats["kernel_steps"] = stats.get("kernel_steps", 0) + total
-    if total:
+    out = None
+    if reason not in (R_BATCH, R_SEED, R_GROW):  # the step after the last committed one, walked
+        out = (walked[0], walked[1], walked[2], walked[3], walked[4])
+        if k:  # its walk's draws are taken: the reference step does not draw them again
+            pcg_jump(rw, jt, 4 * k)
+    if total or out is not None:
         pcg64.store(rng, rw)
     if total == 0:
-        return state, 0
+        return state, 0, out
     new_st = st
     if st is not None:
         if kind == K_SLIDE:
@@ -1002,7 +1029,7 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
             new_st = evolve(new_st, progress_s=float(progress))
     new = evolve(state, x_cm=x, y_cm=y, heading_rad=h, goal_heading_rad=goal, run_left_cm=run_left,
                   disperse_left_s=disp, t_s=float(t), step=state.step + total, structure=new_st)
-    return new, total
+    return new, total, out
 
 
 __all__ = ["AVAILABLE", "STOP_REASONS", "fast_forward"]

@@ -343,15 +343,16 @@ def simulate(p: Params, seed: int, check: bool = False, on_step: Callable | None
     if on_step is not None:
         on_step(state)
     while state.phase not in ENDED:
+        walked = None  # the next step's walk, when the kernel stopped after computing it
         if fast and last_ok:
             if sch is None:
-                state, _ = fast_forward(state, p, world, rng, check, stats=stats)
+                state, _, walked = fast_forward(state, p, world, rng, check, stats=stats)
             elif state.fault_next == 0 and len(sch):
                 # every kernel step ends before the first fault's time (one step of margin)
                 room = int(math.floor((float(sch.t_s[0]) - state.t_s) / p.dt_s)) - 2
                 if room > 0:
-                    state, _ = fast_forward(state, p, world, rng, check, max_steps=room, stats=stats)
-        state = step(state, p, world, rng, use_numba)
+                    state, _, walked = fast_forward(state, p, world, rng, check, max_steps=room, stats=stats)
+        state = step(state, p, world, rng, use_numba, walked=walked)
         ref_steps += 1
         if check:
             v = violations(state, p, world, p.robots)

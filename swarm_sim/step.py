@@ -84,14 +84,17 @@ def detect_seed(tk: Tick) -> None:
 
 def walk_free(tk: Tick) -> None:
     p = tk.p
-    walking = WALKING_LUT[tk.mode]
-    if tk.phase != _P_SEARCH and p.case in ("A", "B"):
-        walking &= tk.mode != _EXPLORE  # cases A, B: free robots stop once the void is found (Ch. 4.5)
-    if tk.fault is not None:
-        walking &= ~tk.failed(DRIVE | SENSOR)  # fail-safe: a robot that cannot drive or see stops
-    walkers = np.flatnonzero(walking)
-    tk.x, tk.y, tk.h, tk.goal, tk.run_left = walk(tk.x, tk.y, tk.h, tk.goal, tk.run_left, walkers,
-                                                  tk.disp[walkers] > 0, tk.world, p, tk.rng, tk.use_numba)
+    if tk.walked is not None:  # the compiled engine's kernel already walked this step (the same walk)
+        tk.x, tk.y, tk.h, tk.goal, tk.run_left = tk.walked
+    else:
+        walking = WALKING_LUT[tk.mode]
+        if tk.phase != _P_SEARCH and p.case in ("A", "B"):
+            walking &= tk.mode != _EXPLORE  # cases A, B: free robots stop once the void is found (Ch. 4.5)
+        if tk.fault is not None:
+            walking &= ~tk.failed(DRIVE | SENSOR)  # fail-safe: a robot that cannot drive or see stops
+        walkers = np.flatnonzero(walking)
+        tk.x, tk.y, tk.h, tk.goal, tk.run_left = walk(tk.x, tk.y, tk.h, tk.goal, tk.run_left, walkers,
+                                                      tk.disp[walkers] > 0, tk.world, p, tk.rng, tk.use_numba)
     tk.disp = np.maximum(tk.disp - p.dt_s, 0.0)
 
 
@@ -382,10 +385,16 @@ def finish(tk: Tick) -> None:
 PHASES = (fail, detect_seed, walk_free, move_structure, decide, watch, finish)
 
 
-def step(state: SwarmState, p, world, rng: np.random.Generator, use_numba: bool | None = None) -> SwarmState:
+def step(state: SwarmState, p, world, rng: np.random.Generator, use_numba: bool | None = None,
+         walked: tuple | None = None) -> SwarmState:
+    """One step: every phase of :data:`PHASES` in order on a working copy (:class:`Tick`).
+    ``walked``: this step's walk as :func:`swarm_sim.compiled.fast_forward` computed it (the
+    kernel stopped after the walk phase of this step; the generator is already past its draws),
+    taken instead of walking again."""
     if state.phase in ENDED:
         return state
     tk = Tick.of(state, p, world, rng, use_numba)
+    tk.walked = walked
     for phase in PHASES:
         if phase is watch:
             watch(tk, state.structure)

@@ -44,6 +44,8 @@ class Tick:
     fault: np.ndarray | None = None
     fault_t: np.ndarray | None = None
     known: np.ndarray | None = None
+    #: this step's walk already computed (x, y, h, goal, run_left), or None: the walk phase walks
+    walked: tuple | None = None
 
     @classmethod
     def of(cls, s: SwarmState, p: Params, world: World, rng: np.random.Generator,

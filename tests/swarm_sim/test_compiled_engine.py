@@ -103,6 +103,27 @@ def test_the_kernels_own_neighbour_list_grows_when_full_and_the_run_is_the_same(
     assert stats["kernel_steps"] > 0.9 * comp.steps
 
 
+def test_a_step_the_kernel_stopped_in_after_its_walk_is_not_walked_again(monkeypatch):
+    """When the kernel stops in a step after its walk phase (a dock, a slide's end, ...), it hands
+    that walk to the reference step (compiled.fast_forward's third value), which takes it instead
+    of walking again: the run is the reference's, and most reference steps took a walk."""
+    from swarm_sim import runner
+
+    taken = []
+    real = runner.step
+
+    def step(state, p, world, rng, use_numba=None, walked=None):
+        taken.append(walked is not None)
+        return real(state, p, world, rng, use_numba, walked=walked)
+
+    monkeypatch.setattr(runner, "step", step)
+    p = resolve_params("case-d", 9, 3, "thesis")
+    _, comp, stats = both(p, 1)
+    handed = taken[-stats["reference_steps"]:]  # the compiled run's steps (the reference run's come first)
+    assert not any(taken[:-stats["reference_steps"]])  # the reference engine walks every step itself
+    assert sum(handed) >= 0.5 * len(handed), (sum(handed), len(handed), stats["stops"])
+
+
 def test_the_regression_set_covers_every_shipped_preset_and_both_limit_sets():
     from pathlib import Path
 

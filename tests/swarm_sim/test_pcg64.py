@@ -59,10 +59,10 @@ def test_a_generator_that_is_not_pcg64_gets_reference_steps_and_the_same_run():
     world = World.from_params(p)
     mt = np.random.Generator(np.random.MT19937(3))
     state = init_state(p, mt)
-    same, steps = compiled.fast_forward(state, p, world, mt)
+    same, steps, _ = compiled.fast_forward(state, p, world, mt)
     assert steps == 0 and same is state
     pc = np.random.default_rng(3)
-    _, steps = compiled.fast_forward(init_state(p, pc), p, world, pc)
+    _, steps, _ = compiled.fast_forward(init_state(p, pc), p, world, pc)
     assert steps > 0
 
 
