@@ -52,7 +52,9 @@ def counts(front_s: float, rows, L: float, void: float, shell_pgo: tuple = (0, 0
     weight 1); ``shell_pgo``: static weights already on (initial ground, void, target ground)."""
     # plain floats: asked a few hundred times per decision, where numpy's per-call cost on a
     # handful of rows dominated; the same IEEE operations as (front_s - (arange(n) + 0.5) * L)
-    w = (1,) * int(rows) if np.isscalar(rows) else np.asarray(rows).tolist()
+    if np.isscalar(rows):
+        return _uniform_counts(front_s, int(rows), L, void, shell_pgo)
+    w = np.asarray(rows).tolist()
     p = g = o = 0
     span = 0
     for k, wk in enumerate(w):
@@ -67,6 +69,38 @@ def counts(front_s: float, rows, L: float, void: float, shell_pgo: tuple = (0, 0
             span += wk > 0
     sp, sg, so = shell_pgo
     return Counts(int(p) + sp, int(g) + sg, int(o) + so, int(span))
+
+
+def _uniform_counts(front_s: float, n: int, L: float, void: float, shell_pgo: tuple) -> Counts:
+    """:func:`counts` for ``n`` rows of weight 1: a row's centre ``s_k = front_s - (k + 0.5) * L``
+    falls with k (rounding is monotone), so the rows on the initial ground are a tail and those
+    on the target ground a head of the rows: two binary searches on the same expression
+    instead of a pass over every row (``tests/swarm_sim/test_structure.py`` compares both)."""
+    def centre(k: int) -> float:
+        return front_s - (k + 0.5) * L
+
+    lo, hi = 0, n  # first row on the initial ground (centre <= EPS)
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if centre(mid) <= EPS:
+            hi = mid
+        else:
+            lo = mid + 1
+    first_p = lo
+    lo, hi = 0, n  # first row not on the target ground (centre < void - EPS)
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if centre(mid) >= void - EPS:
+            lo = mid + 1
+        else:
+            hi = mid
+    end_o = lo
+    if end_o > first_p:  # a row on both grounds (a void narrower than 2 EPS): count it row by row
+        return counts(front_s, (1,) * n, L, void, shell_pgo)
+    p, o = n - first_p, end_o
+    g = n - p - o
+    sp, sg, so = shell_pgo
+    return Counts(p + sp, g + sg, o + so, g)
 
 
 def stable(c: Counts, ratio: float, margin: float, span: int) -> bool:

@@ -26,6 +26,25 @@ def test_counts_by_centre_of_mass():
     assert counts(3.4, 3, 2) == R.Counts(0, 2, 1)   # centres at 2.9, 1.9, 0.9 widths
 
 
+def test_uniform_rows_are_counted_as_the_row_by_row_pass_counts_them_at_every_edge():
+    """rule.counts finds the rows on each ground of a uniform structure by binary search; it
+    must agree with the pass over every row (weights of 1), above all with a row centre right
+    on an edge (within EPS either way) and for fronts before, over and past the void."""
+    import random
+
+    rnd = random.Random(5)
+    for _ in range(20000):
+        n = rnd.randint(0, 60)
+        L = rnd.choice([1.0, 10.0, 7.3, 0.1 * rnd.randint(1, 200)])
+        void = rnd.choice([L * rnd.randint(1, 30), rnd.uniform(0.5, 300.0)])
+        k = rnd.randint(-5, n + 5)
+        nudge = rnd.choice([0.0, R.EPS, -R.EPS, 1e-12, -1e-12, 2e-6])
+        front = rnd.choice([(k + 0.5) * L + nudge, void + (k + 0.5) * L + nudge, rnd.uniform(-50.0, 400.0)])
+        shell = rnd.choice([(0, 0, 0), (2, 1, 3)])
+        fast, slow = R.counts(front, n, L, void, shell), R.counts(front, (1,) * n, L, void, shell)
+        assert (fast.n_p, fast.n_g, fast.n_o, fast.span_rows) == (slow.n_p, slow.n_g, slow.n_o, slow.span_rows)
+
+
 @pytest.mark.parametrize("c,ok", [
     (R.Counts(2, 1, 0), True), (R.Counts(1, 1, 0), False),        # n_p = 2 n_g to hold the cantilever
     (R.Counts(6, 3, 0), True), (R.Counts(5, 3, 0), False),
