@@ -24,6 +24,7 @@ lengths with ``L = 1``).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -126,8 +127,12 @@ def move_stable(front_from: float, front_to: float, rows, L: float, void: float,
     n = int(rows) if np.isscalar(rows) else len(rows)
     lo, hi = min(front_from, front_to), max(front_from, front_to)
     pts = [front_from, front_to]
-    for k in range(n):
-        for edge in (0.0, void):
+    for edge in (0.0, void):
+        # only the rows whose centre can cross this edge on the move (a window one row wider each
+        # way than the division says, so its rounding cannot drop one), tested as before
+        k0 = max(0, math.floor((lo - EPS - edge) / L - 0.5) - 1)
+        k1 = min(n - 1, math.ceil((hi + EPS - edge) / L - 0.5) + 1)
+        for k in range(k0, k1 + 1):
             f = edge + (k + 0.5) * L
             if lo - EPS <= f <= hi + EPS:
                 pts += [f - 10 * EPS, f + 10 * EPS]

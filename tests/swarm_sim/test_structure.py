@@ -45,6 +45,36 @@ def test_uniform_rows_are_counted_as_the_row_by_row_pass_counts_them_at_every_ed
         assert (fast.n_p, fast.n_g, fast.n_o, fast.span_rows) == (slow.n_p, slow.n_g, slow.n_o, slow.span_rows)
 
 
+def test_a_move_is_checked_at_every_crossing_as_a_pass_over_every_row_would_find_them():
+    """rule.move_stable looks only at the rows whose centre can cross an edge on the move; it
+    must answer as the check at every row's crossing does (the rule's spec, written out here)."""
+    import random
+
+    def every_row(a, b, rows, L, void, ratio, margin, span):
+        lo, hi = min(a, b), max(a, b)
+        pts = [a, b]
+        for k in range(rows):
+            for edge in (0.0, void):
+                f = edge + (k + 0.5) * L
+                if lo - R.EPS <= f <= hi + R.EPS:
+                    pts += [f - 10 * R.EPS, f + 10 * R.EPS]
+        return all(R.stable(R.counts(f, (1,) * rows, L, void), ratio, margin, span)
+                   for f in pts if lo - 20 * R.EPS <= f <= hi + 20 * R.EPS)
+
+    rnd = random.Random(8)
+    seen = set()
+    for _ in range(5000):
+        n, L = rnd.randint(1, 40), rnd.choice([1.0, 10.0, 7.3])
+        void = L * rnd.randint(1, 12)
+        a = rnd.choice([0.0, void]) + (rnd.randint(-2, n + 2) + 0.5) * L + rnd.choice([0.0, R.EPS, -R.EPS, 1e-12])
+        b = a + rnd.choice([L, -L, rnd.uniform(-2 * L, 2 * L)])
+        args = (n, L, void, rnd.choice([1.0, 2.0]), rnd.choice([0, 1]), rnd.randint(1, 12))
+        want = every_row(a, b, *args)
+        assert R.move_stable(a, b, *args) == want
+        seen.add(want)
+    assert seen == {True, False}
+
+
 @pytest.mark.parametrize("c,ok", [
     (R.Counts(2, 1, 0), True), (R.Counts(1, 1, 0), False),        # n_p = 2 n_g to hold the cantilever
     (R.Counts(6, 3, 0), True), (R.Counts(5, 3, 0), False),
