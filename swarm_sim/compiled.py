@@ -98,6 +98,7 @@ if HAVE_NUMBA:
     from .borrow import bool_at, borrowed, float64_at, int64_at
     from .explore import _walk_kernel, _wrap
     from .grid import verlet_update
+    from .navigation import _cell_ij, _near
     from .pcg64 import jump as pcg_jump
 
     @numba.njit(cache=True, inline="always")
@@ -263,35 +264,6 @@ if HAVE_NUMBA:
             if _pose_ok1(x, y, hh, hl, hw, W, H, x0, x1, obs, r, two) and hh != h:
                 return x, y, hh, False
         return _slide_off(x, y, h, dist, hl, hw, W, H, x0, x1, obs, r, two)
-
-    @numba.njit(cache=True, inline="always")
-    def _cell_ij(x, y, cell, gnx, gny):  # pragma: no cover - compiled
-        i = min(gnx - 1, max(0, int(x // cell)))
-        j = min(gny - 1, max(0, int(y // cell)))
-        return i, j
-
-    @numba.njit(cache=True)
-    def _near(x, y, cost, cell, gnx, gny, window, gcx, gcy, blocked):  # pragma: no cover - compiled
-        """:meth:`CostField._near` (np.hypot is libm's hypot, as numba's math.hypot)."""
-        i, j = _cell_ij(x, y, cell, gnx, gny)
-        j0 = max(0, j - window)
-        j1 = min(gny, j + window + 1)
-        i0 = max(0, i - window)
-        i1 = min(gnx, i + window + 1)
-        best = math.inf
-        bi = -1
-        for jj in range(j0, j1):
-            for ii in range(i0, i1):
-                c = jj * gnx + ii
-                v = cost[c]
-                if v < blocked:
-                    v = v + math.hypot(x - gcx[c], y - gcy[c])
-                    if v < best:
-                        best = v
-                        bi = c
-        if bi < 0:
-            return math.inf, -1
-        return best, bi
 
     @numba.njit(cache=True)
     def _cost_at(x, y, cost, closed, cell, gnx, gny, window, gcx, gcy, blocked):  # pragma: no cover
@@ -743,19 +715,19 @@ if HAVE_NUMBA:
 def _drop_stale_cache() -> None:
     """numba's cache (``cache=True``) checks only the source file of the cached function, not the
     njit functions it calls in other modules (``explore._walk_kernel``, ``grid.verlet_update``,
-    ``pcg64.jump``, and the walk's ``pcg64.draw_at``): after an edit there this module's and
+    ``pcg64.jump``, ``navigation._near``, the ``borrow`` intrinsics, and the walk's ``pcg64.draw_at``): after an edit there this module's and
     ``explore``'s cached kernels would keep the old code. So their cache files are dropped (and
     recompiled on first use) whenever those sources change."""
     import hashlib
     import os
 
-    from . import borrow, explore, grid, pcg64
+    from . import borrow, explore, grid, navigation, pcg64
 
     path = getattr(getattr(_kernel, "_cache", None), "_cache_path", None)
     if not path or not os.path.isdir(path):
         return
     digest = hashlib.sha1()
-    for mod in (borrow, explore, grid, pcg64):
+    for mod in (borrow, explore, grid, navigation, pcg64):
         with open(mod.__file__, "rb") as fh:
             digest.update(fh.read())
     stamp = os.path.join(path, "compiled.deps-sha1")

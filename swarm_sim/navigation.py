@@ -46,6 +46,37 @@ from .world import World
 
 if HAVE_NUMBA:
     from .dijkstra import dijkstra_resume
+    from .grid import numba
+
+    @numba.njit(cache=True, inline="always")
+    def _cell_ij(x, y, cell, gnx, gny):  # pragma: no cover - compiled
+        i = min(gnx - 1, max(0, int(x // cell)))
+        j = min(gny - 1, max(0, int(y // cell)))
+        return i, j
+
+    @numba.njit(cache=True)
+    def _near(x, y, cost, cell, gnx, gny, window, gcx, gcy, blocked):  # pragma: no cover - compiled
+        """:meth:`CostField._near` compiled, the same answer (np.hypot is libm's hypot, as numba's
+        math.hypot; the window in the same order, the first of equal minima): (best, cell)."""
+        i, j = _cell_ij(x, y, cell, gnx, gny)
+        j0 = max(0, j - window)
+        j1 = min(gny, j + window + 1)
+        i0 = max(0, i - window)
+        i1 = min(gnx, i + window + 1)
+        best = math.inf
+        bi = -1
+        for jj in range(j0, j1):
+            for ii in range(i0, i1):
+                c = jj * gnx + ii
+                v = cost[c]
+                if v < blocked:
+                    v = v + math.hypot(x - gcx[c], y - gcy[c])
+                    if v < best:
+                        best = v
+                        bi = c
+        if bi < 0:
+            return math.inf, -1
+        return best, bi
 
 #: settle every cost field whole when it is made (the search as it was before it became lazy:
 #: the tests run both ways and compare)
@@ -314,8 +345,12 @@ class CostField:
     def _near(self, x: float, y: float) -> tuple[float, int]:
         """Best open cell within :attr:`NavGrid.window` cells (path cost plus the straight step
         to it): for a robot standing where the grid is closed (by a wall, or among the
-        structure's robots after stepping off a foot). The value is final when :meth:`known`."""
+        structure's robots after stepping off a foot). The value is final when :meth:`known`.
+        Compiled when numba is there (the same answer, ~30x cheaper: a recruitment asks it for
+        every robot standing by a wall or the structure, each time the search goes further)."""
         g = self.grid
+        if HAVE_NUMBA:
+            return _near(x, y, self.cost, g.cell_cm, g.nx, g.ny, g.window, g.cx, g.cy, BLOCKED)
         idx = self._window(x, y)
         v = self.cost[idx]
         v = np.where(v < BLOCKED, v + np.hypot(x - g.cx[idx], y - g.cy[idx]), np.inf)

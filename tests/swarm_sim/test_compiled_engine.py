@@ -85,7 +85,7 @@ def test_compiled_engine_gives_the_reference_run_bit_for_bit(preset, n, w, limit
     assert stats["reference_steps"] < 0.1 * comp.steps, stats
 
 
-def test_the_kernels_own_neighbour_list_grows_when_full_and_the_run_is_the_same():
+def test_the_kernels_own_neighbour_list_grows_when_full_and_the_run_is_the_same(monkeypatch):
     """The kernel keeps its own Verlet list (a wider skin than the walk's, rebuilt on a bound of
     how far robots can have moved: compiled.KERNEL_SKIN_CM). Started with room for 8 pairs, it
     must grow (stop reason ``verlet_grow``, then go on) and the run must be the reference's, in
@@ -93,6 +93,7 @@ def test_the_kernels_own_neighbour_list_grows_when_full_and_the_run_is_the_same(
     from swarm_sim import grid
 
     p = resolve_params("case-d", 40, 3, "thesis", 90.0)
+    monkeypatch.setattr(grid, "_WORKSPACES", {})  # (the table is cleared when it holds many)
     ws = list(grid.workspace(p.robots, "kernel"))
     ws[8] = np.empty(8, np.int64)  # room for 8 listed pairs
     ws[11][0] = 0  # no list built yet

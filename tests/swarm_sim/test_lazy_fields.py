@@ -92,3 +92,25 @@ def test_runs_with_lazy_fields_are_the_runs_with_whole_fields(eager, preset, n, 
     assert runs[(False, "compiled")] == runs[(True, "reference")]
     if preset == "case-d" and n == 50:  # a recruit drove beyond its field's front: settled, resumed
         assert stops[(False, "compiled")].get("field", 0) >= 1
+
+
+@pytest.mark.parametrize("wi", range(3))
+def test_the_compiled_window_search_is_the_numpy_ones_answer(monkeypatch, wi):
+    """CostField._near (best open cell round a robot standing where the grid is closed) is
+    compiled when numba is there: the same value and cell as the numpy window, at walls, at the
+    fence's posts, at the arena's corners and anywhere."""
+    world = _worlds()[wi]
+    g = N.nav_grid(world)
+    field = N.cost_field(world, float(g.cx[np.flatnonzero(g.free)[len(g.cx) // 3]]),
+                         float(g.cy[np.flatnonzero(g.free)[len(g.cx) // 3]]))
+    field.settle(math.inf)
+    rng = np.random.default_rng(7 + wi)
+    closed = np.flatnonzero(field.closed)
+    pts = [(float(g.cx[c]) + rng.uniform(-1, 1), float(g.cy[c]) + rng.uniform(-1, 1))
+           for c in rng.choice(closed, 60)]
+    pts += [(rng.uniform(0, world.w_cm), rng.uniform(0, world.h_cm)) for _ in range(40)]
+    pts += [(0.0, 0.0), (world.w_cm, world.h_cm), (world.w_cm - 1e-9, 0.5)]
+    compiled = [field._near(x, y) for x, y in pts]
+    monkeypatch.setattr(N, "HAVE_NUMBA", False)
+    assert compiled == [field._near(x, y) for x, y in pts]
+    assert any(c < math.inf for c, _ in compiled)
