@@ -61,6 +61,8 @@ import numpy as np
 from . import pcg64
 from .borrow import address
 from .grid import HAVE_NUMBA, numba, workspace
+from .navigation import _HOPS, BLOCKED
+from .recruitment import slot_field
 from .state import OPEN, WALKING_MODES, Mode, Phase, evolve
 
 _EXPLORE, _TARGET = int(Mode.EXPLORE), int(Mode.TARGET)
@@ -849,9 +851,6 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
     kind = _kind(state, p, world, check)
     if kind is None:
         return state, 0, None
-    from .navigation import _HOPS, BLOCKED
-    from .recruitment import slot_field
-
     st = state.structure
     n = state.n
     mode = state.mode

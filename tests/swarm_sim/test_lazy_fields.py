@@ -114,3 +114,29 @@ def test_the_compiled_window_search_is_the_numpy_ones_answer(monkeypatch, wi):
     monkeypatch.setattr(N, "HAVE_NUMBA", False)
     assert compiled == [field._near(x, y) for x, y in pts]
     assert any(c < math.inf for c, _ in compiled)
+
+
+def test_the_compiled_floor_division_is_pythons_even_where_the_quotient_rounds_to_a_whole_number():
+    """navigation._floor_div (the compiled cell lookup's x // cell) against Python's // on the
+    cases that matter: multiples of the cell and their neighbours one ulp away, where x / c
+    rounds to a whole number but the true quotient is just below it, negatives and zero."""
+    import numba
+
+    from swarm_sim.navigation import _floor_div
+
+    @numba.njit
+    def fdiv(xs, c, out):
+        for i in range(xs.shape[0]):
+            out[i] = _floor_div(xs[i], c)
+
+    rng = np.random.default_rng(4)
+    for c in (4.47213595499958, 3.3333333333333335, 10.0, 0.1, 7.3):
+        k = np.arange(-50, 3000).astype(float)
+        base = k * c
+        xs = np.concatenate([base, np.nextafter(base, -np.inf), np.nextafter(base, np.inf),
+                             rng.uniform(-100, 3000 * c, 5000), [0.0, -0.0, 1e-300, -1e-300]])
+        out = np.empty_like(xs)
+        fdiv(xs, c, out)
+        want = np.array([x // c for x in xs.tolist()])
+        assert np.array_equal(out, want)
+        assert (np.floor(xs / c) != want).any() or c == 10.0  # the cases where floor(x / c) is wrong occur
