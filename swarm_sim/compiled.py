@@ -5,8 +5,9 @@ while only *continuous* things happen, bit-identical to the reference :func:`swa
 :func:`_kernel` for up to ``S`` steps. Each kernel step is the reference step's
 arithmetic (same float operations, same order):
 
-* free robots walk: :func:`swarm_sim.explore._walk_kernel` itself, on a Verlet list from
-  :func:`swarm_sim.grid.verlet_update` (exact whatever its history), with the step's
+* free robots walk: :func:`swarm_sim.explore._walk_kernel` itself, on the kernel's own Verlet
+  list (:func:`swarm_sim.grid.verlet_update` with a :data:`KERNEL_SKIN_CM` skin, rebuilt when a
+  bound on how far robots can have moved says so; exact whatever its history), with the step's
   random numbers (the reference's ``rng.random((4, k))`` from the generator's own PCG64
   state, :mod:`swarm_sim.pcg64`: only the few the walk reads are computed, by jump-ahead
   from the step's start, and the commit jumps the stream past the step, so the numbers and
@@ -27,7 +28,8 @@ A step in which anything *discrete* would happen (the seed is seen, a wait or sl
 the far ledge is seen, a recruit docks or stalls, the watchdog fires, a target is found, a
 robot would be lost, an invariant could break, the time limit, ...) is computed into
 temporaries, not committed, and the kernel returns; the caller (``runner.simulate``) then
-runs that one step with the reference ``step()``. Threshold tests whose arithmetic is not
+runs that one step with the reference ``step()``, which takes the kernel's walk of that step
+(``step(walked=...)``) when the kernel stopped after the walk phase. Threshold tests whose arithmetic is not
 literally the reference's (numpy vs scalar) stop *conservatively* (a small margin): a
 stop costs one reference step, never a difference. The uncommitted step's draws are
 undone (its stream words restored), so the generator is left where the reference would
@@ -413,9 +415,11 @@ if HAVE_NUMBA:
         # committed ends the call)
         hc = np.empty(n)
         hs = np.empty(n)
+        is_walker = np.zeros(n, np.bool_)
         for q in range(k):
             hc[walkers[q]] = math.cos(h[walkers[q]])
             hs[walkers[q]] = math.sin(h[walkers[q]])
+            is_walker[walkers[q]] = True
         no_u = np.empty((0, 0))
         # the walk's own arrays as borrowed views (the arguments are borrowed above)
         vstraight, vno_u, vbx, vby, vhc, vhs = (borrowed(straight), borrowed(no_u), borrowed(bx), borrowed(by),
@@ -659,18 +663,12 @@ if HAVE_NUMBA:
                 # robots the kernel drives are never walkers) and the state is left before the step
                 # (the stream words ``rw`` move only at the commit: the caller jumps them)
                 for i in range(n):
-                    walked[0, i] = bx[i]
-                    walked[1, i] = by[i]
-                    walked[2, i] = bh[i]
-                    walked[3, i] = bg[i]
-                    walked[4, i] = br[i]
-                for q in range(k):
-                    i = walkers[q]
-                    walked[0, i] = x[i]
-                    walked[1, i] = y[i]
-                    walked[2, i] = h[i]
-                    walked[3, i] = goal[i]
-                    walked[4, i] = run_left[i]
+                    w = is_walker[i]
+                    walked[0, i] = x[i] if w else bx[i]
+                    walked[1, i] = y[i] if w else by[i]
+                    walked[2, i] = h[i] if w else bh[i]
+                    walked[3, i] = goal[i] if w else bg[i]
+                    walked[4, i] = run_left[i] if w else br[i]
                 for i in range(n):
                     x[i] = bx[i]
                     y[i] = by[i]
