@@ -191,6 +191,13 @@ if HAVE_NUMBA:
         return True
 
     @numba.njit(cache=True, inline="always")
+    def _field_views(addr, row, cells):  # pragma: no cover - compiled
+        """A cost field's cost, next-cell and closed arrays where they lie, from row ``row`` of its
+        address table (:func:`_field_table`): borrowed views of ``cells`` entries each."""
+        return (numba.carray(float64_at(addr[row, 0]), cells), numba.carray(int64_at(addr[row, 1]), cells),
+                numba.carray(bool_at(addr[row, 2]), cells))
+
+    @numba.njit(cache=True, inline="always")
     def _moved_beyond(x, y, xref, yref, ids, h2):  # pragma: no cover - compiled
         """Any of the robots ``ids`` farther than ``sqrt(h2)`` cm from where the neighbour list
         was built (grid.verlet_update's test, for these robots only)."""
@@ -368,7 +375,7 @@ if HAVE_NUMBA:
         x, y, h, goal, run_left, walkers, rw, jt, nbr_start, nbr_idx, obs, obs_none = (
             borrowed(x), borrowed(y), borrowed(h), borrowed(goal), borrowed(run_left), borrowed(walkers),
             borrowed(rw), borrowed(jt), borrowed(nbr_start), borrowed(nbr_idx), borrowed(obs), borrowed(obs_none))
-        gcx, gcy = borrowed(gcx), borrowed(gcy)
+        gcx, gcy, f_addr, j_addr = borrowed(gcx), borrowed(gcy), borrowed(f_addr), borrowed(j_addr)
         n = x.shape[0]
         k = walkers.shape[0]
         hl, hw, W, H, x0, x1, r, detect, avoid, dist, turn_max, mu, lmin, lmax, p_turn, turn_rad = (
@@ -555,10 +562,7 @@ if HAVE_NUMBA:
                         ax = rec_f[q, 2]
                         ay = rec_f[q, 3]
                         in_h = rec_in_h[q]
-                        fr = f_row[q]  # its field's cost, next cell and closed cells, where they lie
-                        fc = numba.carray(float64_at(f_addr[fr, 0]), cells)
-                        fx = numba.carray(int64_at(f_addr[fr, 1]), cells)
-                        fz = numba.carray(bool_at(f_addr[fr, 2]), cells)
+                        fc, fx, fz = _field_views(f_addr, f_row[q], cells)
                         nx, ny, nh, fin, read = _drive_along(rx, ry, rh, in_h, in_h, fc, fx, fz, f_goal_cell[q],
                                                              ax, ay, cell, gnx, gny, window, gcx, gcy, blocked,
                                                              hops, dist, turn_max, hl, hw, W, H, x0w, x1w, obs, r,
@@ -594,10 +598,7 @@ if HAVE_NUMBA:
                     j_arrived = False
                     ox_ = x[ri]
                     oy_ = y[ri]
-                    jr = j_row[q]
-                    fc = numba.carray(float64_at(j_addr[jr, 0]), cells)
-                    fx = numba.carray(int64_at(j_addr[jr, 1]), cells)
-                    fz = numba.carray(bool_at(j_addr[jr, 2]), cells)
+                    fc, fx, fz = _field_views(j_addr, j_row[q], cells)
                     nx, ny, nh, _, read = _drive_along(x[ri], y[ri], h[ri], dir_h, dir_h, fc, fx, fz, j_goal_cell[q],
                                                        jgx, jgy, cell, gnx, gny, window, gcx, gcy, blocked, hops, dist,
                                                        turn_max, hl, hw, W, H, x0w, x1w, obs, r, two)
@@ -715,8 +716,9 @@ if HAVE_NUMBA:
 def _drop_stale_cache() -> None:
     """numba's cache (``cache=True``) checks only the source file of the cached function, not the
     njit functions it calls in other modules (``explore._walk_kernel``, ``grid.verlet_update``,
-    ``pcg64.jump``, ``navigation._near``, the ``borrow`` intrinsics, and the walk's ``pcg64.draw_at``): after an edit there this module's and
-    ``explore``'s cached kernels would keep the old code. So their cache files are dropped (and
+    ``pcg64.jump``, ``navigation._near``, the ``borrow`` intrinsics, and the walk's
+    ``pcg64.draw_at``): after an edit there this module's and ``explore``'s cached kernels would
+    keep the old code. So their cache files are dropped (and
     recompiled on first use) whenever those sources change."""
     import hashlib
     import os

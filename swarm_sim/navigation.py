@@ -211,12 +211,12 @@ def footprint_mask(grid: NavGrid, cx: np.ndarray, cy: np.ndarray, half_x: float,
 
 class _Search:
     """A Dijkstra search left part-way (:func:`swarm_sim.dijkstra.dijkstra_resume`): its heap and
-    the graph it runs on; ``version`` counts the resumes (copies of the field key on it)."""
+    the graph it runs on."""
 
-    __slots__ = ("args", "hd", "hi", "size", "version")
+    __slots__ = ("args", "hd", "hi", "size")
 
     def __init__(self, args: tuple, hd: np.ndarray, hi: np.ndarray) -> None:
-        self.args, self.hd, self.hi, self.size, self.version = args, hd, hi, 1, 0
+        self.args, self.hd, self.hi, self.size = args, hd, hi, 1
 
 
 @dataclass(frozen=True, eq=False)
@@ -244,18 +244,12 @@ class CostField:
         s = self.search
         return math.inf if s is None else float(s.hd[0])
 
-    @property
-    def version(self) -> int:
-        """Changes whenever more cells are settled (-1 once complete)."""
-        return -1 if self.search is None else self.search.version
-
     def settle(self, until_cm: float) -> None:
         """Settle every cell whose cost is at most ``until_cm`` (``inf``: all)."""
         s = self.search
         if s is None or not s.size or s.hd[0] > until_cm:
             return
         s.size, s.hd, s.hi = dijkstra_resume(*s.args, self.cost, self.nxt, s.hd, s.hi, s.size, float(until_cm))
-        s.version += 1
         if not s.size:
             object.__setattr__(self, "search", None)
 
