@@ -249,7 +249,7 @@ def _box(lo, hi):
 def _part_manifold(part):
     import manifold3d as m3d
 
-    from .export import mesh_of
+    from cubot_cad.mesh import mesh_of
 
     mesh = mesh_of(part.solid.copy(False), CAPTURE_TOLERANCE_MM, CAPTURE_ANGULAR_RAD)  # own triangulation
     return m3d.Manifold(m3d.Mesh(vert_properties=np.asarray(mesh.vertices, dtype=np.float32),
@@ -257,7 +257,8 @@ def _part_manifold(part):
 
 
 def _union_of(items, shift=(0.0, 0.0, 0.0)):
-    from .docking import loc_matrix, union
+    from cubot_cad.docking import union
+    from cubot_cad.shapes import loc_matrix
 
     return union(_part_manifold(p.part).transform(loc_matrix(p.loc)) for p in items).translate(
         tuple(float(v) for v in shift))
@@ -378,8 +379,9 @@ def measure(r, name: str, pair, full_ladder: bool = True) -> Capture | None:
 
 def capture_of(pair_name: str, clearance_mm: float, full_ladder: bool = True) -> Capture | None:
     """Capture of one of :data:`~cubot_cad.docking.PAIRS` for the default robot at ``clearance_mm``."""
+    from cubot_cad.registry import make_robot
+
     from .docking import ROBOT_OF_PAIR, dock
-    from .export import make_robot
 
     return measure(make_robot(ROBOT_OF_PAIR[pair_name], clearance_mm), pair_name, dock(pair_name, clearance_mm),
                    full_ladder)

@@ -90,7 +90,7 @@ def fits_bed(size_mm) -> bool:
 
 @lru_cache(maxsize=8)
 def _manifest_at(root: str, mtime_ns: int) -> dict | None:
-    from .export import load_manifest
+    from cubot_cad.manifest import load_manifest
 
     try:
         return load_manifest(Path(root))

@@ -28,10 +28,11 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import ClassVar
 
+from cubot_cad.part import check_dims
+
 from . import couplings
 from .components import Component
 from .connectors import FrontRearSpec, latch_set_parts, pin_set_parts
-from .cubot import check_dims
 from .latch_drive import SHAFT_INTO_COUPLER_MM, LatchDriveSpec
 from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, at_least, at_most, check_clearance, need
 from .robot import Placed, Robot

@@ -36,7 +36,16 @@ from .connectors import (
     pin_set_parts,
 )
 from .latch_drive import SHAFT_INTO_COUPLER_MM, LatchDriveSpec
-from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, at_least, at_most, check_clearance, need
+from .part import (
+    DEFAULT_CLEARANCE_MM,
+    MIN_WALL_MM,
+    Part,
+    at_least,
+    at_most,
+    check_clearance,
+    check_dims,
+    need,
+)
 from .robot import Placed, Robot
 from .twist import STANDIN_GAP_MM, KeyBearing, TwistDriveSpec, TwistKey, servo_component
 
@@ -53,13 +62,6 @@ MOTOR_GAP_MM = 0.15
 RAIL_BOSS_MM = 8.0
 #: The wheel slots in the floor are the wheel plus this much all round (mm).
 WHEEL_SLOT_MARGIN_MM = 1.5
-
-
-def check_dims(obj, names: tuple[str, ...]) -> None:
-    for n in names:
-        v = getattr(obj, n)
-        need(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0,
-             f"{type(obj).__name__}.{n} must be a positive length in mm, got {v!r}")
 
 
 @dataclass(frozen=True)
@@ -561,7 +563,7 @@ class CuBot(Robot):
         if placed is not None:
             key = next((p for p in placed if p.role == "cross_key"), None)
             if key is not None:
-                from .docking import loc_matrix
+                from cubot_cad.shapes import loc_matrix
 
                 m = loc_matrix(key.loc)
                 turn = -math.degrees(math.atan2(m[1, 0], m[0, 0]))

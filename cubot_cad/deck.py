@@ -438,6 +438,8 @@ def _deck_manifolds(deck: PierDeck, turn_deg: float, offset) -> list:
 @lru_cache(maxsize=16)
 def dock_deck(robot, deck: PierDeck | None = None) -> DeckDock:
     """Dock ``deck`` (default: the robot's) on ``robot``'s cover and check it (module docstring)."""
+    from cubot_cad.deck import HOLD_MM3, LIFT_MM, cover_top_mm, screw_head_solids
+
     from .docking import (
         GAP_RESOLUTION_MM,
         _contact_boundary,
@@ -447,7 +449,6 @@ def dock_deck(robot, deck: PierDeck | None = None) -> DeckDock:
         to_manifold,
         union,
     )
-    from .pier import HOLD_MM3, LIFT_MM, cover_top_mm, screw_head_solids
 
     deck = default_deck(robot) if deck is None else deck.check_fits(robot)
     if deck is None:
@@ -514,3 +515,38 @@ def deck_height_numbers(robot, docked: DeckDock | None = None) -> dict:
     return {"value_mm": float(deck.height_mm),
             "source": (f"cubot_cad design (export without docking): the {deck.name}'s key stance "
                        f"{deck.stand_mm:g} mm (the coupling's) + its {deck.plate_mm:g} mm plate")}
+
+
+#: How far beyond its pull-out play the upper robot is lifted to see whether the key holds (mm).
+LIFT_MM = 0.5
+
+
+#: A lifted turned key must overlap the collar roof by more than this to hold (mm^3).
+HOLD_MM3 = 1.0
+
+
+def cover_top_mm(robot) -> float:
+    """Top face of the cover plate above the robot's underside (mm): the largest upward-facing
+    planar face of the placed cover."""
+    cover = next(p for p in robot.placed if p.role == "cover")
+    best = None
+    for f in cover.shape.Faces():
+        if f.geomType() != "PLANE" or f.normalAt().z < 1 - 1e-9:
+            continue
+        if best is None or f.Area() > best.Area():
+            best = f
+    if best is None:
+        raise RuntimeError("the cover has no upward planar face")
+    return float(best.Center().z)
+
+
+def screw_head_solids(robot) -> list:
+    """Stand-ins of the cover screws' socket heads (ISO 4762, from the fastener table) on the
+    cover plate, robot frame: the bought parts above the running surface."""
+    from .fasteners import thread
+    from .shapes import Z, cyl
+
+    t = thread(robot.top_spec.screw_size)
+    z = cover_top_mm(robot)
+    return [cyl(t.shcs_head_diameter_mm / 2, t.shcs_head_height_mm, (x, y, z), Z)
+            for x, y in robot.body.cover_screw_points()]

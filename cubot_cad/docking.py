@@ -35,6 +35,7 @@ import numpy as np
 
 from .errors import InputError
 from .part import DEFAULT_CLEARANCE_MM, check_clearance
+from .shapes import loc_matrix
 
 PAIRS = ("cubot-front-rear", "cubot-side-rail", "cubot-top-down", "octbot-ring",
          "cube-robot-front-rear", "cube-robot-side", "platform-bolt")
@@ -55,7 +56,7 @@ def to_manifold(shape, tolerance: float = 0.02):
     """OCC shape (mm) -> manifold3d.Manifold via tessellation."""
     import manifold3d as m3d
 
-    from .export import mesh_of
+    from cubot_cad.mesh import mesh_of
 
     mesh = mesh_of(shape, tolerance, 0.1)
     return m3d.Manifold(m3d.Mesh(vert_properties=np.asarray(mesh.vertices, dtype=np.float32),
@@ -66,11 +67,6 @@ def to_manifold(shape, tolerance: float = 0.02):
 def part_manifold(part):
     """Manifold of a part's solid in its mounting frame (tessellated once per distinct part)."""
     return to_manifold(part.solid)
-
-
-def loc_matrix(loc) -> np.ndarray:
-    t = loc.wrapped.Transformation()
-    return np.array([[t.Value(i, j) for j in range(1, 5)] for i in range(1, 4)])
 
 
 def manifold_of(item):
@@ -249,7 +245,7 @@ def dock(name: str, clearance_mm: float = DEFAULT_CLEARANCE_MM,
     check_clearance(clearance_mm, "--clearance-mm")
     if name not in PAIRS:
         raise InputError(f"docked pair {name!r} is not one of {', '.join(PAIRS)}")
-    from .export import make_robot
+    from cubot_cad.registry import make_robot
 
     return dock_robot(make_robot(ROBOT_OF_PAIR[name], clearance_mm, tuple(settings)), name, tuple(misalign_mm))
 

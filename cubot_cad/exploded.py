@@ -356,7 +356,7 @@ def main(argv: list[str] | None = None) -> int:
     render the exploded views and refresh their blocks in the assembly guide."""
     import argparse
 
-    from .export import make_robot
+    from cubot_cad.registry import make_robot
 
     ap = argparse.ArgumentParser(prog="python -m cubot_cad.exploded", description=main.__doc__)
     ap.add_argument("--docs", default="docs/assembly.md")

@@ -34,86 +34,18 @@ import shutil
 import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, replace
-from functools import lru_cache
 from pathlib import Path
 
 from .atomic import write_bytes, write_via
 from .errors import InputError
-from .jsonrecord import read_json, write_json_atomic
+from .jsonrecord import write_json_atomic
+from .manifest import MANIFEST_SCHEMA, load_manifest  # noqa: F401  (the manifest's home)
+from .mesh import STL_ANGULAR_RAD, STL_TOLERANCE_MM, mesh_of  # noqa: F401  (the mesh's home)
 from .part import BED_MM, DEFAULT_CLEARANCE_MM, check_clearance, material
+from .registry import ROBOT_NAMES, make_robot, parse_robots  # noqa: F401  (the registry's home)
 
-ROBOT_NAMES = ("cubot", "octbot", "cube-robot", "platform")
 FORMATS = ("stl", "step", "3mf", "glb")
 DEFAULT_FORMATS = ("stl", "step", "glb")
-MANIFEST_SCHEMA = 1
-#: Tessellation of exported meshes (mm, rad).
-STL_TOLERANCE_MM = 0.02
-STL_ANGULAR_RAD = 0.15
-
-
-def make_robot(name: str, clearance_mm: float = DEFAULT_CLEARANCE_MM, settings: tuple = ()):
-    """The robot model ``name`` with the given print clearance and ``settings`` (``--set``: (name,
-    value) pairs, :mod:`cubot_cad.settings`; those the robot has no field for are ignored), a shared
-    instance: parts build once.
-
-    The robot's own validation (its dataclass and every part and connector spec it derives) accepts
-    or refuses the values; a refusal names ``--set NAME=VALUE`` (or ``--clearance-mm``), the values a
-    user set, rather than a connector dimension the command line cannot reach."""
-    from .settings import for_robot, parse_settings, settings_text
-
-    check_clearance(clearance_mm, "--clearance-mm")
-    if name not in ROBOT_NAMES:
-        raise InputError(f"--robot {name!r} is not one of {', '.join(ROBOT_NAMES)}, all")
-    settings = tuple((k, v) for k, v in parse_settings(settings) if k != "clearance_mm")
-    mine = tuple(sorted(for_robot(settings, name).items()))
-    try:
-        return _make_robot(name, float(clearance_mm), mine)
-    except InputError as exc:
-        what = f"--set {settings_text(mine)}" if mine else f"--clearance-mm {clearance_mm:g}"
-        if mine and abs(clearance_mm - DEFAULT_CLEARANCE_MM) > 1e-12:
-            what += f" (--clearance-mm {clearance_mm:g})"
-        raise InputError(f"{what}: the {name} cannot be built with it ({exc})") from None
-
-
-@lru_cache(maxsize=32)
-def _make_robot(name: str, clearance_mm: float, settings: tuple = ()):
-    kw = dict(settings)
-    if name == "cubot":
-        from .cubot import CuBot
-
-        r = CuBot(clearance_mm=clearance_mm, **kw)
-    elif name == "octbot":
-        from .octbot import OctBot
-
-        r = OctBot(clearance_mm=clearance_mm, **kw)
-    elif name == "cube-robot":
-        from .cube_robot import CubeRobot
-
-        r = CubeRobot(clearance_mm=clearance_mm, **kw)
-    elif name == "platform":
-        from .platform import TestPlatform
-
-        r = TestPlatform(clearance_mm=clearance_mm, **kw)
-    else:
-        raise InputError(f"--robot {name!r} is not one of {', '.join(ROBOT_NAMES)}, all")
-    if settings:
-        # every part the robot places validates its dimensions when it is made (the solids are built
-        # later): a value the geometry refuses is refused here, before anything is written
-        r.placed  # noqa: B018
-        r.components()
-    return r
-
-
-def parse_robots(value: str) -> tuple[str, ...]:
-    items = [v.strip() for v in str(value).split(",") if v.strip()]
-    if not items:
-        raise InputError("--robot is empty")
-    if items == ["all"]:
-        return ROBOT_NAMES
-    for v in items:
-        if v not in ROBOT_NAMES:
-            raise InputError(f"--robot {v!r} is not one of {', '.join(ROBOT_NAMES)}, all")
-    return tuple(dict.fromkeys(items))
 
 
 def parse_formats(value: str) -> tuple[str, ...]:
@@ -186,22 +118,6 @@ def _commit(stage: Path, out: Path) -> None:
         dst.parent.mkdir(parents=True, exist_ok=True)
         os.replace(src, dst)
     shutil.rmtree(stage)
-
-
-def mesh_of(shape, tolerance: float = STL_TOLERANCE_MM, angular: float = STL_ANGULAR_RAD):
-    """Tessellate an OCC shape into a trimesh.Trimesh (mm)."""
-    import numpy as np
-    import trimesh
-
-    verts, tris = shape.tessellate(tolerance, angular)
-    v = np.array([(p.x, p.y, p.z) for p in verts], dtype=float)
-    f = np.array(tris, dtype=np.int64).reshape(-1, 3)
-    mesh = trimesh.Trimesh(vertices=v, faces=f, process=True)
-    mesh.merge_vertices()
-    # OCC leaves zero-area slivers at sphere poles and seams: drop them
-    mesh.update_faces(mesh.nondegenerate_faces())
-    mesh.remove_unreferenced_vertices()
-    return mesh
 
 
 @dataclass
@@ -438,12 +354,3 @@ def _with_gaps(robot, material_name: str, source: str, gaps: dict[str, float], p
     return replace(rp, connectors=tuple(conns))
 
 
-def load_manifest(path: str | os.PathLike) -> dict:
-    """Read a manifest (file or directory holding ``manifest.json``)."""
-    p = Path(path)
-    if p.is_dir():
-        p = p / "manifest.json"
-    data = read_json(p)
-    if not isinstance(data, dict) or data.get("schema_version") != MANIFEST_SCHEMA or "parts" not in data:
-        raise InputError(f"{p} is not a cubot_cad manifest (schema_version {MANIFEST_SCHEMA})")
-    return data

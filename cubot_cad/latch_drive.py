@@ -74,7 +74,7 @@ class LatchDriveSpec:
 
     def __post_init__(self) -> None:
         check_clearance(self.clearance_mm)
-        from .cubot import check_dims
+        from cubot_cad.part import check_dims
 
         check_dims(self, ("frame_mm", "frame_margin_mm"))
         need(isinstance(self.proud_mm, (int, float)) and self.proud_mm >= 0,

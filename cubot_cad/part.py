@@ -250,3 +250,10 @@ class Part:
     def params(self) -> dict[str, float]:
         """The part's named dimensions."""
         return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+def check_dims(obj, names: tuple[str, ...]) -> None:
+    for n in names:
+        v = getattr(obj, n)
+        need(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0,
+             f"{type(obj).__name__}.{n} must be a positive length in mm, got {v!r}")

@@ -78,7 +78,9 @@ from functools import cached_property, lru_cache
 
 import numpy as np
 
+from .deck import HOLD_MM3, LIFT_MM, cover_top_mm, screw_head_solids
 from .errors import InputError
+from .shapes import convex_hull
 
 PIER_PAIR = "cubot-top-down"
 MIN_ROBOTS = 1
@@ -93,10 +95,6 @@ CONTACT_TOL_MM = 0.05
 TOUCH_AREA_MM2 = 0.05
 #: Parts reaching less than this above the running surface are not protrusions (mm).
 PROTRUSION_TOL_MM = 0.01
-#: How far beyond its pull-out play the upper robot is lifted to see whether the key holds (mm).
-LIFT_MM = 0.5
-#: A lifted turned key must overlap the collar roof by more than this to hold (mm^3).
-HOLD_MM3 = 1.0
 FLOOR_THICKNESS_MM = 5.0
 FLOOR_COLOUR = (0.42, 0.36, 0.28)
 #: Roles of the bought parts that stand on the ground.
@@ -130,8 +128,9 @@ def _check_robot(robot) -> None:
 @lru_cache(maxsize=16)
 def top_down_pair(robot):
     """The measured ``cubot-top-down`` pair of ``robot`` (docked once per distinct robot)."""
+    from cubot_cad.registry import make_robot
+
     from .docking import dock, dock_robot
-    from .export import make_robot
     from .part import DEFAULT_CLEARANCE_MM
 
     _check_robot(robot)
@@ -142,20 +141,6 @@ def top_down_pair(robot):
 
 
 # -- measurements on one robot ------------------------------------------------------------------
-
-def cover_top_mm(robot) -> float:
-    """Top face of the cover plate above the robot's underside (mm): the largest upward-facing
-    planar face of the placed cover."""
-    cover = next(p for p in robot.placed if p.role == "cover")
-    best = None
-    for f in cover.shape.Faces():
-        if f.geomType() != "PLANE" or f.normalAt().z < 1 - 1e-9:
-            continue
-        if best is None or f.Area() > best.Area():
-            best = f
-    if best is None:
-        raise RuntimeError("the cover has no upward planar face")
-    return float(best.Center().z)
 
 
 def _contact_solids(robot):
@@ -200,27 +185,6 @@ def support_polygon_mm(robot, floor_z_mm: float) -> list[tuple[float, float]]:
     return convex_hull(pts)
 
 
-def convex_hull(points) -> list[tuple[float, float]]:
-    """Counter-clockwise convex hull (Andrew's monotone chain)."""
-    pts = sorted(set((float(x), float(y)) for x, y in points))
-    if len(pts) < 3:
-        return pts
-
-    def cross(o, a, b):
-        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-
-    lower, upper = [], []
-    for p in pts:
-        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
-            lower.pop()
-        lower.append(p)
-    for p in reversed(pts):
-        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
-            upper.pop()
-        upper.append(p)
-    return lower[:-1] + upper[:-1]
-
-
 def inner_distance_mm(polygon, point) -> float:
     """Signed distance of ``point`` to the nearest edge of a CCW convex ``polygon`` (> 0 inside)."""
     if len(polygon) < 3:
@@ -232,18 +196,6 @@ def inner_distance_mm(polygon, point) -> float:
         n = math.hypot(ex, ey)
         d = min(d, (ex * (py - y0) - ey * (px - x0)) / n)  # left of the edge = inside
     return d
-
-
-def screw_head_solids(robot) -> list:
-    """Stand-ins of the cover screws' socket heads (ISO 4762, from the fastener table) on the
-    cover plate, robot frame: the bought parts above the running surface."""
-    from .fasteners import thread
-    from .shapes import Z, cyl
-
-    t = thread(robot.top_spec.screw_size)
-    z = cover_top_mm(robot)
-    return [cyl(t.shcs_head_diameter_mm / 2, t.shcs_head_height_mm, (x, y, z), Z)
-            for x, y in robot.body.cover_screw_points()]
 
 
 def stack_numbers(robot, pair=None, deck_dock=None) -> dict:

@@ -10,9 +10,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import ClassVar
 
+from cubot_cad.part import check_dims
+
 from . import couplings
 from .components import Component
-from .cubot import check_dims
 from .part import DEFAULT_CLEARANCE_MM, MIN_WALL_MM, Part, at_least, check_clearance, need
 from .robot import Placed, Robot
 

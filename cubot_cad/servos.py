@@ -147,7 +147,7 @@ def servo(name: str) -> Servo:
 def arm_outline(horn: Horn, angle_deg: float, segments: int = 48) -> list[tuple[float, float]]:
     """Plan outline (x, y, counter-clockwise) of one arm of ``horn`` pointing along ``angle_deg``: the
     convex hull of the centre cap's circle and the arm's rounded end."""
-    from .pier import convex_hull
+    from cubot_cad.shapes import convex_hull
 
     R, r = horn.hub_diameter_mm / 2, horn.arm_end_diameter_mm / 2
     d = horn.arm_length_mm - r

@@ -11,6 +11,7 @@ import math
 from collections.abc import Iterable, Sequence
 
 import cadquery as cq
+import numpy as np
 
 X = (1.0, 0.0, 0.0)
 Y = (0.0, 1.0, 0.0)
@@ -140,3 +141,29 @@ def loft_x(outline0: Sequence[tuple[float, float]], x0: float, outline1: Sequenc
     w0 = cq.Wire.makePolygon([cq.Vector(x0, u, v) for u, v in outline0], close=True)
     w1 = cq.Wire.makePolygon([cq.Vector(x1, u, v) for u, v in outline1], close=True)
     return cq.Solid.makeLoft([w0, w1], True)
+
+
+def convex_hull(points) -> list[tuple[float, float]]:
+    """Counter-clockwise convex hull (Andrew's monotone chain)."""
+    pts = sorted(set((float(x), float(y)) for x, y in points))
+    if len(pts) < 3:
+        return pts
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower, upper = [], []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    return lower[:-1] + upper[:-1]
+
+
+def loc_matrix(loc) -> np.ndarray:
+    t = loc.wrapped.Transformation()
+    return np.array([[t.Value(i, j) for j in range(1, 5)] for i in range(1, 4)])

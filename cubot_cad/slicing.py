@@ -354,7 +354,7 @@ def slice_manifest(export_dir: str | os.PathLike, robots: tuple[str, ...] | None
     (``print_time_s``, ``filament_g``, ``printed_mass_g``, ``solid_mass_g``, and
     ``solid_over_printed_pct``: how much heavier the solid model is than the print), and
     ``complete``: every part sliced."""
-    from .export import load_manifest
+    from cubot_cad.manifest import load_manifest
 
     root = Path(export_dir)
     man = load_manifest(root)

@@ -155,6 +155,10 @@ def dead_band_moment(theta: float, k: float, half_width: float, smoothing: float
     return 0.5 * k * (a + math.sqrt(a * a + e * e)) + 0.5 * k * (b - math.sqrt(b * b + e * e))
 
 
+#: The hinge models (:attr:`ConnectorSet.hinge`; built in :mod:`structure_fem.hinge`).
+HINGES = ("emergent", "lumped")
+
+
 @dataclass(frozen=True)
 class ConnectorSet:
     """The couplings one robot model offers: ``front_rear`` (along a line), optional
@@ -163,14 +167,12 @@ class ConnectorSet:
     front_rear: Joint
     side_rail: Joint | None = None
     top_twist: Joint | None = None
-    #: How a coupling whose faces touch is modelled (:data:`structure_fem.hinge.HINGES`):
+    #: How a coupling whose faces touch is modelled (:data:`HINGES`):
     #: ``"emergent"`` (tension rows + compression-only face contacts: the default and the packaged
     #: record's model) or ``"lumped"`` (one point spring + a pitch dead band of tension play / highest pin).
     hinge: str = "emergent"
 
     def __post_init__(self) -> None:
-        from .hinge import HINGES
-
         if self.hinge not in HINGES:
             raise InputError(f"hinge model {self.hinge!r} is not one of {', '.join(HINGES)}")
 

@@ -698,8 +698,8 @@ def launch_transient(structure: Structure, void_width: int | float, props: Robot
                      periods: float = DEFAULT_PERIODS, static: StaticResult | None = None,
                      rows_over: float | None = None) -> TransientResult:
     """The launch transient ``event`` of ``structure`` at its longest cantilever over a
-    ``void_width``-wide void (``rows_over = void_width``; ``rows`` defaults to the table's
-    minimal rows, :func:`structure_fem.study.min_rows`), from its static equilibrium
+    ``void_width``-wide void (``rows_over = void_width``; ``rows``: the table's
+    minimal rows, :func:`structure_fem.study.table_rows`, required unless ``static`` is given), from its static equilibrium
     (:func:`structure_fem.model.solve`, or ``static`` if given); ``rows_over`` (default
     ``void_width``) places the front elsewhere (:func:`support_loss_family`).
 
@@ -728,7 +728,8 @@ def launch_transient(structure: Structure, void_width: int | float, props: Robot
 
     if static is None:
         if rows is None:
-            rows = table_rows(structure, void_width, props, conn, flexible)
+            raise InputError(f"{what}: give the table's rows (rows=, structure_fem.study.table_rows) "
+                             "or its solved state (static=)")
         g = void_width if rows_over is None else _check("rows over", rows_over, 0.0)
         static = solve(Config(structure, rows, g, void_width), props, conn, flexible)
     lay = static.layout
@@ -819,18 +820,6 @@ def launch_transient(structure: Structure, void_width: int | float, props: Robot
         notes="; ".join(notes), rows_over=float(static.config.rows_over))
 
 
-def table_rows(structure: Structure, void_width: int | float, props: RobotProperties,
-               connectors: ConnectorSet | None = None, flexible: bool = False) -> int:
-    """The table's rows at ``void_width``: the fewest that keep the longest cantilever standing
-    (:func:`structure_fem.study.min_rows`; the clearance does not enter)."""
-    from .study import StudyInputs, min_rows
-
-    conn = ConnectorSet.from_robot(props) if connectors is None else connectors
-    inp = StudyInputs(props, conn, props.wheel_exposed_height_m or 0.015, flexible=flexible)
-    w = int(void_width) if float(void_width).is_integer() else void_width
-    return min_rows(structure, w, inp)[0]
-
-
 def support_loss_family(structure: Structure, void_width: int, props: RobotProperties,
                         damping_ratio: float = DEFAULT_DAMPING_RATIO, *, rows: int | None = None,
                         connectors: ConnectorSet | None = None, flexible: bool = False,
@@ -844,7 +833,8 @@ def support_loss_family(structure: Structure, void_width: int, props: RobotPrope
     :func:`launch_transient`."""
     conn = ConnectorSet.from_robot(props) if connectors is None else connectors
     if rows is None:
-        rows = table_rows(structure, void_width, props, conn, flexible)
+        raise InputError(f"{props.name} {structure.name} over a {void_width:g}-wide void (support_loss family): "
+                         "give the table's rows (rows=, structure_fem.study.table_rows)")
     table = solve(Config(structure, rows, void_width, void_width), props, conn, flexible)
     lay = table.layout
     pts = _ground_points(lay, props)
@@ -937,4 +927,4 @@ def sdof_peak_factor(damping_ratio: float) -> float:
 
 
 __all__ = ["DEFAULT_DAMPING_RATIO", "DOCKING_SPEED_M_S", "EVENTS", "Modes", "TransientResult",
-           "dynamic_allowance_m", "launch_transient", "support_loss_family", "table_rows", "modes", "sdof_peak_factor", "sdof_step", "tip_of"]
+           "dynamic_allowance_m", "launch_transient", "support_loss_family", "modes", "sdof_peak_factor", "sdof_step", "tip_of"]

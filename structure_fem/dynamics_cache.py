@@ -173,8 +173,8 @@ def allowance_m(structure, width, robot, damping_ratio: float, *, rows: int, con
 
         raise SolverFailure(_FAILED[key])
     fn = compute or dynamic_allowance_m
-    a = float(fn(structure, width, robot, damping_ratio, events=events, connectors=connectors, flexible=flexible,
-                 static=static))
+    a = float(fn(structure, width, robot, damping_ratio, events=events, rows=rows, connectors=connectors,
+                 flexible=flexible, static=static))
     entry = {"key": key, "allowance_m": a, "structure": structure.name, "width": float(width), "rows": int(rows),
              "robot": robot.name, "flexible": bool(flexible), "damping_ratio": float(damping_ratio),
              "model": MODEL_VERSION}

@@ -47,10 +47,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .connectors import SMOOTHING, Joint
+from .connectors import HINGES, SMOOTHING, Joint  # noqa: F401  (HINGES: the joints' home)
 
-#: The hinge models (:class:`structure_fem.connectors.ConnectorSet.hinge`).
-HINGES = ("emergent", "lumped")
 #: Face contact penalty over the coupling's axial stiffness (numerical, a near-rigid contact): the
 #: walls bear in plane, about E t b / depth = 2.2 GPa x 2.4 mm x 100 mm / 10 mm = 5e7 N/m per edge
 #: for the CuBot, some 40x its coupling's 1.2e6 N/m; 30x puts 3 % of the joint's compliance in

@@ -223,6 +223,16 @@ def min_rows(s: Structure, w: int, inp: StudyInputs,
     raise SolverFailure(f"{s.name}: no row count up to {rows - 1} keeps a {w}-wide cantilever standing")
 
 
+def table_rows(structure: Structure, void_width: int | float, props: RobotProperties,
+               connectors: ConnectorSet | None = None, flexible: bool = False) -> int:
+    """The table's rows at ``void_width``: the fewest that keep the longest cantilever standing
+    (:func:`min_rows`; the clearance does not enter)."""
+    conn = ConnectorSet.from_robot(props) if connectors is None else connectors
+    inp = StudyInputs(props, conn, props.wheel_exposed_height_m or 0.015, flexible=flexible)
+    w = int(void_width) if float(void_width).is_integer() else void_width
+    return min_rows(structure, w, inp)[0]
+
+
 @dataclass
 class Curve:
     """A structure's tip deflection and tipping factor at its longest cantilever, per void width

@@ -138,3 +138,75 @@ def move_stable(front_from: float, front_to: float, rows, L: float, void: float,
                 pts += [f - 10 * EPS, f + 10 * EPS]
     return all(stable(counts(f, rows, L, void, shell_pgo), ratio, margin, span)
                for f in pts if lo - 20 * EPS <= f <= hi + 20 * EPS)
+
+
+# -- the pier rule: the counting rule once the front has reached a complete pier (swarm_sim.piers) --
+
+def robots_per_pier(depth_cm: float, standing_cm: float, pitch_cm: float, clearance_cm: float,
+                    deck_cm: float = 0.0) -> int:
+    """Robots a pier needs for its running surface (``standing + (k - 1) pitch + deck``: the top
+    robot wears the printed deck the line rolls over, ``cubot_cad.deck``) to reach from the
+    floor to within ``clearance_cm`` below the ledge, never above it; 0 when no stack fits (or
+    no depth is given)."""
+    if not (depth_cm > 0 and standing_cm > 0 and pitch_cm > 0):
+        return 0
+    k = max(1, math.ceil((depth_cm - clearance_cm - standing_cm - deck_cm) / pitch_cm - 1e-9) + 1)
+    top = standing_cm + (k - 1) * pitch_cm + deck_cm
+    return k if depth_cm - clearance_cm - 1e-9 <= top <= depth_cm + 1e-9 else 0
+
+
+def complete_piers(st, p) -> list[tuple[float, int]]:
+    """The piers that have their robots: (near face s, cm; robots)."""
+    return [(s, k) for s, k in st.piers if k >= p.pier_robots]
+
+
+def rule_frame(st, p) -> tuple[float, float, tuple[float, int, int]]:
+    """(front_s, void_cm, rule) the counting rule is evaluated in: once the front has reached a
+    complete pier (its near face), the last such pier's far face is the edge and the pier rule
+    applies; else the structure's own (near edge, its level's rule)."""
+    L = p.robot_length_cm
+    done = [s for s, _k in complete_piers(st, p) if st.front_s_cm >= s - 1e-6]
+    if not done:
+        return st.front_s_cm, p.void_width_cm, p.rule
+    far = max(done) + L
+    return (st.front_s_cm - far, p.void_width_cm - far,
+            (p.pier_ground_ratio, p.pier_ground_margin, p.pier_overhang_widths))
+
+
+def stable_at(st, p, front_s: float, n: int) -> bool:
+    """The counting rule for ``n`` rows with the front at ``front_s`` (cm past the near edge),
+    the complete piers being supports: before the first pier the level's own rule; from a pier
+    on, the pier rule counted from the last pier reached (rows behind its far face against rows
+    beyond it); and once no row is left on the initial ground, the rows still over the first
+    span hang back from the first pier: at most the level's span of them, and the rows from the
+    pier on must weigh ``pier_ground_ratio`` times them plus ``pier_ground_margin``."""
+    L, V = p.robot_length_cm, p.void_width_cm
+    sites = [s for s, _k in complete_piers(st, p) if front_s >= s - 1e-6]
+    if not sites:
+        return stable(counts(front_s, n, L, V), *p.rule)
+    far = max(sites) + L
+    ratio, margin = p.pier_ground_ratio, p.pier_ground_margin
+    if not stable(counts(front_s - far, n, L, V - far), ratio, margin, p.pier_overhang_widths):
+        return False
+    centres = front_s - (np.arange(n) + 0.5) * L
+    if n and centres[-1] > 1e-6:  # nothing on the initial ground any more
+        back = int(np.sum(centres < min(sites) - 1e-6))
+        if back and (back > p.max_span_widths or n - back < ratio * back + margin - 1e-6):
+            return False
+    return True
+
+
+def move_ok(st, p, front_from: float, front_to: float, n: int) -> bool:
+    """:func:`stable_at` at every configuration a move passes through (counts change only where
+    a row centre crosses an edge or a pier face: checked just before and after each)."""
+    L, V = p.robot_length_cm, p.void_width_cm
+    lo, hi = min(front_from, front_to), max(front_from, front_to)
+    edges = [0.0, V] + [e for s, _k in complete_piers(st, p) for e in (s, s + L)]
+    pts = [front_from, front_to]
+    for k in range(n):
+        for e in edges:
+            f = e + (k + 0.5) * L
+            if lo - 1e-6 <= f <= hi + 1e-6:
+                pts += [f - 1e-5, f + 1e-5]
+    pts += [s - 1e-5 for s, _k in complete_piers(st, p)] + [s + 1e-5 for s, _k in complete_piers(st, p)]
+    return all(stable_at(st, p, f, n) for f in pts if lo - 2e-5 <= f <= hi + 2e-5)

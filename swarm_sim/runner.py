@@ -15,9 +15,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from swarm_sim.params import Params, load_preset, with_overrides
+from swarm_sim.resolve import with_limits
+
 from .errors import InputError, InvariantViolation
 from .invariants import lost_robots, violations
-from .params import Params, load_preset, with_limits, with_overrides
 from .retreat import end_reason
 from .state import Mode, Phase, SwarmState, new_state
 from .step import ENDED, step

@@ -158,9 +158,9 @@ class Situation:
 
 
 def situation(st: Structure, p: Params, free_available: bool, dock_ok: bool, pier_ready: bool = False) -> Situation:
-    """With piers (:func:`swarm_sim.piers.rule_frame`) the rule is counted from the last
+    """With piers (:func:`swarm_sim.rule.rule_frame`) the rule is counted from the last
     complete pier's far face once the front has reached it."""
-    from .piers import rule_frame
+    from .rule import rule_frame
 
     L, V0 = p.robot_length_cm, p.void_width_cm
     n, n_all = full_rows(st), all_rows(st)
@@ -175,7 +175,7 @@ def situation(st: Structure, p: Params, free_available: bool, dock_ok: bool, pie
     short_rear = n_all > n          # a rear row being recruited (not counted)
     partial = short_rear or fill    # ... or new lines still open after a switch: no move, no release
     if st.piers:  # the piers are supports (swarm_sim.piers)
-        from .piers import move_ok, stable_at
+        from .rule import move_ok, stable_at
 
         f0 = st.front_s_cm
         # before landing the rear row stays on the initial ground (the pier rule's derivation keeps

@@ -12,7 +12,7 @@ pytest.importorskip("manifold3d")
 
 @pytest.fixture(scope="session")
 def robots():
-    from cubot_cad.export import ROBOT_NAMES, make_robot
+    from cubot_cad.registry import ROBOT_NAMES, make_robot
 
     return {name: make_robot(name) for name in ROBOT_NAMES}
 
@@ -28,7 +28,8 @@ def pairs():
 def export_dir(tmp_path_factory, pairs):
     """A fresh `cad export --robot all` (STL + STEP + GLB, the CLI's default formats) with the
     docked pairs checked and their measured gaps in the record, as the CLI does it."""
-    from cubot_cad.export import DEFAULT_FORMATS, ROBOT_NAMES, export_robots
+    from cubot_cad.export import DEFAULT_FORMATS, export_robots
+    from cubot_cad.registry import ROBOT_NAMES
 
     out = tmp_path_factory.mktemp("exports")
     export_robots(ROBOT_NAMES, out, DEFAULT_FORMATS, "abs", 0.2, pairs=list(pairs.values()))

@@ -140,7 +140,7 @@ def test_an_export_whose_docked_pair_fails_exits_2_and_writes_nothing(cli, tmp_p
     import dataclasses
 
     import cubot_cad.docking as docking
-    from cubot_cad.export import make_robot
+    from cubot_cad.registry import make_robot
 
     real = docking.dock("platform-bolt", 0.2)
     if failure == "interference":  # a real overlap: the rear plate's recess shifted 1 mm onto the tab

@@ -10,7 +10,7 @@ import pytest
 
 
 def _fresh(name="cubot", **kw):
-    from cubot_cad.export import make_robot
+    from cubot_cad.registry import make_robot
 
     return make_robot(name, 0.2, tuple(sorted(kw.items())))
 
@@ -141,7 +141,7 @@ def test_export_with_set_records_and_uses_the_values(cli, tmp_path, robots):
 
 
 def _fresh_c(c, **kw):
-    from cubot_cad.export import make_robot
+    from cubot_cad.registry import make_robot
 
     return make_robot("cubot", c, tuple(sorted(kw.items())))
 

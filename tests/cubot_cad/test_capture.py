@@ -49,7 +49,7 @@ def _no_lead_in(name):
 
     from cubot_cad.cubot import CuBot
     from cubot_cad.docking import dock_robot
-    from cubot_cad.export import make_robot
+    from cubot_cad.registry import make_robot
 
     base = make_robot("cubot", 0.2)
     if name == "cubot-front-rear":

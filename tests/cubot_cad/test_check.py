@@ -10,7 +10,7 @@ from cubot_cad.check import check_file, fits_bed, slicer_path, thinnest_wall_mm
 def _box_stl(path, outer, wall=None):
     import cadquery as cq
 
-    from cubot_cad.export import mesh_of
+    from cubot_cad.mesh import mesh_of
 
     w = cq.Workplane().box(*outer)
     if wall is not None:

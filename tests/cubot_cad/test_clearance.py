@@ -9,7 +9,6 @@ import pytest
 
 from cubot_cad.docking import GAP_TOLERANCE_MM, INTERFERENCE_LIMIT_MM3, PAIRS
 from cubot_cad.errors import InputError
-from cubot_cad.export import ROBOT_NAMES
 from cubot_cad.part import (
     LENGTH_TOL_MM,
     MAX_CLEARANCE_MM,
@@ -17,6 +16,7 @@ from cubot_cad.part import (
     MIN_WALL_MM,
     check_clearance,
 )
+from cubot_cad.registry import ROBOT_NAMES
 
 ENDS = (MIN_CLEARANCE_MM, MAX_CLEARANCE_MM)
 #: Every 0.01 mm of the range. 0.4 is the value a float comparison used to refuse
@@ -53,7 +53,7 @@ def test_values_outside_the_range_are_refused_naming_the_value(value):
 def test_every_robot_accepts_every_clearance_of_the_range(name):
     """Every dimension check passes at every 0.01 mm of the range (no float trap, no fixed
     dimension that the clearance outgrows)."""
-    from cubot_cad.export import _make_robot
+    from cubot_cad.registry import _make_robot
 
     for c in GRID:
         _make_robot.__wrapped__(name, c)  # uncached: a fresh validation at every value
@@ -61,7 +61,7 @@ def test_every_robot_accepts_every_clearance_of_the_range(name):
 
 @pytest.mark.parametrize("c", (MIN_CLEARANCE_MM, 0.4, MAX_CLEARANCE_MM))
 def test_every_part_of_every_robot_builds_at_the_ends_of_the_range_and_at_0_4(c):
-    from cubot_cad.export import make_robot
+    from cubot_cad.registry import make_robot
 
     for name in ROBOT_NAMES:
         for part, _ in make_robot(name, c).printable_parts():
@@ -149,7 +149,7 @@ def test_a_robot_that_cannot_take_a_clearance_names_the_clearance(monkeypatch):
     """Should a robot ever not build at an accepted clearance, the error names the value the user
     set (--clearance-mm), not a connector dimension the command line cannot reach (head_mm)."""
     import cubot_cad.connectors as connectors
-    from cubot_cad.export import make_robot
+    from cubot_cad.registry import make_robot
 
     monkeypatch.setattr(connectors, "MIN_LATCH_OVERLAP_MM", 0.5)  # a stricter latch: fails above 0.3 mm
     with pytest.raises(InputError) as exc:

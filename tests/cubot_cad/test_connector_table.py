@@ -15,7 +15,7 @@ RECORD = json.loads((Path(__file__).parent / "data" / "volumes_before_connector_
 
 def _parts(clearance):
     from cubot_cad.deck import pier_parts
-    from cubot_cad.export import ROBOT_NAMES, make_robot
+    from cubot_cad.registry import ROBOT_NAMES, make_robot
 
     out = {}
     for name in ROBOT_NAMES:
@@ -27,7 +27,7 @@ def _parts(clearance):
 
 @pytest.mark.parametrize("c", sorted(RECORD["clearances"]))
 def test_every_exported_part_keeps_its_volume(c):
-    from cubot_cad.export import mesh_of
+    from cubot_cad.mesh import mesh_of
 
     before = RECORD["clearances"][c]
     now = _parts(float(c))

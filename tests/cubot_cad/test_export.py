@@ -92,7 +92,7 @@ def test_pla_and_3mf_for_one_robot(tmp_path):
 
 def test_corrupt_manifest_is_an_input_error(tmp_path):
     from cubot_cad.errors import InputError
-    from cubot_cad.export import load_manifest
+    from cubot_cad.manifest import load_manifest
 
     (tmp_path / "manifest.json").write_text("{not json")
     with pytest.raises(InputError, match="not valid JSON"):

@@ -61,8 +61,8 @@ def test_the_disc_angle_sets_the_finger_offset_linearly_between_the_two_ends():
     assert r.finger_offset_mm(T) == pytest.approx(0.0)
     assert r.finger_offset_mm(T / 2) == pytest.approx(-rs.finger_travel_mm / 2)
     assert r.disc_deg_for(False) == 0.0 and r.disc_deg_for(True) == T
-    from cubot_cad.docking import loc_matrix
     from cubot_cad.errors import InputError
+    from cubot_cad.shapes import loc_matrix
 
     with pytest.raises(InputError, match="disc_deg"):
         r.finger_offset_mm(T + 5)

@@ -21,7 +21,7 @@ from cubot_cad.pier import PIER_PAIR, PierColumn
 
 @pytest.fixture(scope="module")
 def cubot():
-    from cubot_cad.export import make_robot
+    from cubot_cad.registry import make_robot
 
     return make_robot("cubot")
 
@@ -165,8 +165,8 @@ def test_the_deck_docks_on_the_collar(column, cubot):
     low = tuple(v - (0, 0, 1.0)[i] for i, v in enumerate(dd.offset_mm))
     a, b = _near_union(robot, _deck_manifolds(dd.deck, 0.0, low), [(0.0, 0.0, 0.0)])
     assert intersection_volume(a, b) > 10 * INTERFERENCE_LIMIT_MM3
+    from cubot_cad.deck import screw_head_solids
     from cubot_cad.docking import to_manifold
-    from cubot_cad.pier import screw_head_solids
 
     wide = dataclasses.replace(dd.deck, ring_radius_mm=62.0, ring_wall_mm=6.0, length_mm=130.0, width_mm=130.0)
     heads = [to_manifold(h) for h in screw_head_solids(cubot)]
@@ -261,7 +261,7 @@ def test_the_deck_prints_flat_without_support(column, tmp_path):
     import trimesh
 
     from cubot_cad.check import check_file
-    from cubot_cad.export import mesh_of
+    from cubot_cad.mesh import mesh_of
 
     deck = column.deck_part
     stl = tmp_path / "pier_deck.stl"
@@ -337,7 +337,7 @@ def test_a_bad_robot_count_is_one_line_naming_it(cubot, k):
 
 
 def test_only_a_robot_with_the_top_down_coupling_stacks():
-    from cubot_cad.export import make_robot
+    from cubot_cad.registry import make_robot
 
     with pytest.raises(InputError, match="octbot has none"):
         PierColumn(make_robot("octbot"), 2)
@@ -478,7 +478,7 @@ def test_cad_export_adds_the_fields_for_the_robots_that_stack(top_down):
 
 
 def top_down_robot():
-    from cubot_cad.export import make_robot
+    from cubot_cad.registry import make_robot
 
     return make_robot("cubot")
 

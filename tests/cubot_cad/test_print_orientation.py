@@ -23,7 +23,7 @@ def _pins(robots):
 def test_every_grooved_pin_prints_lying_down_on_its_flat(robots):
     from OCP.BRepAdaptor import BRepAdaptor_Surface
 
-    from cubot_cad.export import mesh_of
+    from cubot_cad.mesh import mesh_of
     from cubot_cad.shapes import tight_bbox
 
     pins = _pins(robots)
@@ -98,7 +98,7 @@ def test_pin_locking_plate_prints_larger_face_down_counterbores_up(robots):
 def test_every_part_in_print_orientation_has_z_min_0(robots):
     """Every exported part (per robot and per pier), as laid on the bed and as meshed for its STL."""
     from cubot_cad.deck import pier_parts
-    from cubot_cad.export import mesh_of
+    from cubot_cad.mesh import mesh_of
     from cubot_cad.shapes import tight_bbox
 
     seen = 0

@@ -155,7 +155,7 @@ def test_bom_lists_the_rail_screws_and_inserts(robots):
 
 @pytest.mark.parametrize("c", (0.1, 0.5))
 def test_rail_screws_build_over_the_clearance_range(c):
-    from cubot_cad.export import make_robot
+    from cubot_cad.registry import make_robot
 
     r = make_robot("cubot", c)
     for p in r.placed:

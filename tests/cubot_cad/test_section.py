@@ -9,7 +9,7 @@ import pytest
 cq = pytest.importorskip("cadquery")
 
 from cubot_cad.errors import InputError  # noqa: E402
-from cubot_cad.export import make_robot  # noqa: E402
+from cubot_cad.registry import make_robot  # noqa: E402
 from cubot_cad.section import body_section  # noqa: E402
 
 

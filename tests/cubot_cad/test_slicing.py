@@ -139,7 +139,7 @@ def test_robot_totals_count_quantities_and_leave_pier_parts_out():
 # --- with the real slicer -------------------------------------------------------------------
 
 def _stl(path, shape):
-    from cubot_cad.export import mesh_of
+    from cubot_cad.mesh import mesh_of
 
     path.write_bytes(mesh_of(shape).export(file_type="stl"))
     return path
@@ -192,7 +192,7 @@ def test_cad_check_slices_with_the_manifest_settings(block_stl, tmp_path, requir
     slice follows each part's manifest entry, and the per-robot totals add them up."""
     require_tool(slicer_path(), "prusa-slicer")
     from cubot_cad.check import check_file, slicing_totals
-    from cubot_cad.export import MANIFEST_SCHEMA
+    from cubot_cad.manifest import MANIFEST_SCHEMA
 
     (tmp_path / "bot").mkdir()
     for name in ("sparse", "dense"):
@@ -306,7 +306,7 @@ def test_printed_fractions_are_per_part_and_only_for_fully_sliced_robots():
 def test_a_printed_fraction_scales_each_parts_mass_and_inertia():
     """The record's mass follows the slicer: the platform's plate at half its solid mass halves the
     printed mass, keeps its COM (one part) and halves its inertia; a bad fraction is refused."""
-    from cubot_cad.export import make_robot
+    from cubot_cad.registry import make_robot
 
     r = make_robot("platform", 0.2, ())
     solid = r.mass_properties()

@@ -14,9 +14,9 @@ import math
 import numpy as np
 import pytest
 
+from cubot_cad.deck import HOLD_MM3, LIFT_MM
 from cubot_cad.docking import CONTACT_MM3, intersection_volume, manifold_of, to_manifold, union
 from cubot_cad.errors import InputError
-from cubot_cad.pier import HOLD_MM3, LIFT_MM
 
 #: The mass lumps of the component table (no shape: a mass spread over the body), not stand-ins.
 LUMPS = ("fasteners", "wiring")
@@ -25,7 +25,7 @@ STEPS = 12
 
 @pytest.fixture(scope="module")
 def cubot():
-    from cubot_cad.export import make_robot
+    from cubot_cad.registry import make_robot
 
     return make_robot("cubot")
 
@@ -282,7 +282,7 @@ def test_the_new_parts_print_and_say_so(cubot, tmp_path):
     """The repository's printability check (watertight, manifold, on the bed, walls >= 0.8 mm) on the
     twist key and the bearing ring as exported; the key needs a support under its disc (recorded)."""
     from cubot_cad.check import check_file
-    from cubot_cad.export import mesh_of
+    from cubot_cad.mesh import mesh_of
 
     for part in (cubot.twist_key, cubot.key_bearing, cubot.body):
         stl = tmp_path / f"{part.name}.stl"

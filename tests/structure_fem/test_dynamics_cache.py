@@ -141,7 +141,7 @@ def test_prefill_integrates_in_workers_what_a_direct_integration_gives(setup, mo
     jobs = _jobs(robot, conn)
     assert dc.prefill(jobs, workers=2, cache_dir=cache) == 2
     assert dc.prefill(jobs, workers=2, cache_dir=cache) == 0  # nothing left to do
-    direct = [dynamics.dynamic_allowance_m(j.structure, j.width, robot, 0.02, connectors=conn, flexible=True)
+    direct = [dynamics.dynamic_allowance_m(j.structure, j.width, robot, 0.02, rows=j.rows, connectors=conn, flexible=True)
               for j in jobs]
 
     def boom(*a, **k):

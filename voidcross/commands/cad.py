@@ -101,9 +101,10 @@ def do_export(out: Path, robots, formats, material: str, clearance: float, with_
     and nothing is written: see :mod:`cubot_cad.export`). ``settings``: ``--set`` dimensions;
     ``slice_parts``: slice every STL with its recorded settings into the manifest (``--slice``)."""
     from cubot_cad.errors import InputError
-    from cubot_cad.export import ROBOT_NAMES, export_robots, make_robot
+    from cubot_cad.export import export_robots
     from cubot_cad.part import check_clearance
     from cubot_cad.part import material as mat
+    from cubot_cad.registry import ROBOT_NAMES, make_robot
     from cubot_cad.settings import settings_text
 
     check_clearance(clearance, "--clearance-mm")
@@ -159,8 +160,8 @@ def _stack_fields(robots, clearance: float, pairs, settings: tuple = ()) -> dict
     height from the measured docked pair and the docked deck, or the designed ones when the export
     runs without docking. (``export_robots`` writes the same fields; computed here first, before
     anything is written.)"""
-    from cubot_cad.export import make_robot
     from cubot_cad.pier import stack_fields
+    from cubot_cad.registry import make_robot
 
     out = {}
     for name in robots:
@@ -171,8 +172,9 @@ def _stack_fields(robots, clearance: float, pairs, settings: tuple = ()) -> dict
 
 
 def run_export(args) -> int:
-    from cubot_cad.export import parse_formats, parse_robots
+    from cubot_cad.export import parse_formats
     from cubot_cad.part import check_clearance, material
+    from cubot_cad.registry import parse_robots
     from cubot_cad.settings import settings_text
 
     robots = parse_robots(args.robot)
@@ -205,8 +207,8 @@ def run_export(args) -> int:
 def run_dock(args) -> int:
     from cubot_cad.docking import PAIRS, ROBOT_OF_PAIR, dock
     from cubot_cad.errors import InputError
-    from cubot_cad.export import make_robot
     from cubot_cad.part import check_clearance
+    from cubot_cad.registry import make_robot
 
     names = PAIRS if args.pair == "all" else tuple(p.strip() for p in args.pair.split(","))
     for n in names:
@@ -272,7 +274,8 @@ def run_check(args) -> int:
                              "check fresh parts, not both")
         import tempfile
 
-        from cubot_cad.export import export_robots, make_robot, parse_robots
+        from cubot_cad.export import export_robots
+        from cubot_cad.registry import make_robot, parse_robots
 
         robots = parse_robots(args.robot or "all")
         settings = _resolve(args, robots)
@@ -366,8 +369,8 @@ def _check_dir(args, root: Path, built) -> int:
 
 def run_render(args) -> int:
     from cubot_cad.docking import dock, pairs_for
-    from cubot_cad.export import make_robot, parse_robots
     from cubot_cad.part import check_clearance
+    from cubot_cad.registry import make_robot, parse_robots
     from cubot_cad.render import render_bridge, render_pair, render_robot
 
     robots = parse_robots(args.robot)
@@ -410,10 +413,10 @@ def run_pier(args) -> int:
     """A pier of ``--robots`` CuBots stacked top-down: its numbers and checks, printed (or JSON),
     written with a STEP and a GLB of the column to ``--out``; exit 1 when a check fails."""
     from cubot_cad.atomic import write_json, write_via
-    from cubot_cad.export import make_robot
     from cubot_cad.gltf import write_glb
     from cubot_cad.part import check_clearance
     from cubot_cad.pier import PierColumn, check_lean, check_robots
+    from cubot_cad.registry import make_robot
 
     k = check_robots(args.robots, "--robots")
     lean = check_lean(args.lean_deg, "--lean-deg")
@@ -518,7 +521,7 @@ PIPELINE_RENDERS = ("cubot", "octbot", "cube-robot", "platform")
 def pipeline_renders(out: Path, clearance: float = 0.2, robots=PIPELINE_RENDERS) -> list[str]:
     """PNGs of the robots and of the CuBot bridge into ``out/img`` (the `cad render` code path)."""
     from cubot_cad.docking import dock
-    from cubot_cad.export import make_robot
+    from cubot_cad.registry import make_robot
     from cubot_cad.render import render_bridge, render_robot
 
     img = Path(out) / "img"
@@ -541,7 +544,8 @@ def pipeline_stage(out: Path, ctx: dict) -> str:
     except ImportError as exc:
         raise StageUnavailable(f"cadquery/trimesh/manifold3d not installed ({exc.name}); "
                                "using the packaged robot_properties.json") from None
-    from cubot_cad.export import DEFAULT_FORMATS, ROBOT_NAMES
+    from cubot_cad.export import DEFAULT_FORMATS
+    from cubot_cad.registry import ROBOT_NAMES
     from cubot_cad.slicing import slicer_path
 
     out = Path(out)

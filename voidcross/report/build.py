@@ -103,7 +103,8 @@ def launch_min(lim, width: int, preset: str = "large-void") -> int:
     switching structure of ``preset``): the one swarm-size minimum the report quotes."""
     from dataclasses import replace
 
-    from swarm_sim.params import load_preset, with_limits
+    from swarm_sim.params import load_preset
+    from swarm_sim.resolve import with_limits
 
     p = with_limits(replace(load_preset(preset), void_width=width, structure="switch"), lim)
     return max(p.min_robots_rule, 2)
