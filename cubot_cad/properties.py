@@ -110,7 +110,7 @@ class GroundContact:
 
 
 def ground_contacts_from_components(components, length_mm: float) -> tuple[GroundContact, ...]:
-    """The ground contacts of a robot from its component table (:class:`cubot_cad.components.Component`,
+    """The ground contacts of a robot from its component table (:class:`cubot_cad.hardware.components.Component`,
     robot frame, mm): every ``wheel`` (``cyl_y``: its lowest point is the axle height minus the
     radius, at the axle's x) and ``caster`` (``sphere``: the ball's centre minus its radius; a
     ``cyl_z`` or ``box`` stand-in: its centre minus half its height), those
@@ -142,7 +142,7 @@ def ground_contacts_from_components(components, length_mm: float) -> tuple[Groun
 
 def ground_contact_fields(robot) -> dict:
     """``{"ground_contacts": ..., "ground_contacts_source": ...}`` for a parametric
-    :class:`cubot_cad.robot.Robot` (empty when it has no wheels or casters: it lies on its
+    :class:`cubot_cad.robots.base.Robot` (empty when it has no wheels or casters: it lies on its
     underside, e.g. the test platform), to ``dataclasses.replace`` into its
     :class:`RobotProperties` when the record is written."""
     L = robot.envelope_mm[0]
@@ -187,7 +187,7 @@ class ConnectorProperties:
     shear_stiffness_n_per_m: float | None = None
     #: Lever arm (m) of every tension member (pin) about the joint's hinge, from the CAD (one per
     #: pin; the underside edge of the touching faces for a zero docked gap): where the model's
-    #: emergent hinge (:mod:`structure_fem.hinge`) puts its tension rows. Empty: not known (records
+    #: emergent hinge (:mod:`structure_fem.model.hinge`) puts its tension rows. Empty: not known (records
     #: written before it existed, couplings that are not pinned).
     pin_levers_m: tuple[float, ...] = ()
 
@@ -251,25 +251,25 @@ class RobotProperties:
     stack_pitch_m: float | None = None
     stack_pitch_source: str | None = None
     #: The top cover of a pier to the running deck the line rolls over (the printed pier deck,
-    #: ``cubot_cad.deck``, on the top robot): a pier's running surface is ``pier_height_m(k) +
+    #: ``cubot_cad.piers.deck``, on the top robot): a pier's running surface is ``pier_height_m(k) +
     #: deck_height_m``; and what it was measured from. None: not known, or no deck (no top-down coupling).
     deck_height_m: float | None = None
     deck_height_source: str | None = None
     #: Where the robot touches a flat ground (wheels, casters; :class:`GroundContact`, robot
     #: frame), and what they were derived from. None: not in the record (a record written before
     #: them, or a robot without wheels that lies on its underside): `structure_fem` then falls back
-    #: (see ``structure_fem.contacts``).
+    #: (see ``structure_fem.model.contacts``).
     ground_contacts: tuple[GroundContact, ...] | None = None
     ground_contacts_source: str | None = None
     #: The printed body's effective second moment of area for bending in the structure's
-    #: vertical plane (m^4; :func:`cubot_cad.section.body_section`: the shell cut from the CAD,
+    #: vertical plane (m^4; :func:`cubot_cad.checks.section.body_section`: the shell cut from the CAD,
     #: ``I_eff = L / integral dx / I(x)``), and how it was obtained. None: not in the record (a
-    #: record written before it): `structure_fem.bodies` falls back to the envelope box.
+    #: record written before it): `structure_fem.model.bodies` falls back to the envelope box.
     body_second_moment_m4: float | None = None
     body_second_moment_source: str | None = None
     #: The robot's mass if its printed parts were solid (100 % infill; kg), beside ``mass_kg`` at the
     #: recorded print settings, and how it was obtained: the heavy end of the infill a maker may choose
-    #: (`structure_fem.margins`' threshold range). None: not in the record (or not sliced: then
+    #: (`structure_fem.analysis.margins`' threshold range). None: not in the record (or not sliced: then
     #: ``mass_kg`` is already the solid one).
     solid_print_mass_kg: float | None = None
     solid_print_mass_source: str | None = None

@@ -5,7 +5,7 @@ whose dataclass field of that name it sets. The value is not checked here beyond
 finite number: it goes into the robot's frozen dataclass, whose own validation (and that of
 the parts and connector specs it derives) accepts or refuses it, and a refusal is reported
 as one :class:`~cubot_cad.errors.InputError` naming ``--set NAME=VALUE``
-(:func:`cubot_cad.export.make_robot`). ``clearance_mm`` is the print clearance per side, the
+(:func:`cubot_cad.outputs.export.make_robot`). ``clearance_mm`` is the print clearance per side, the
 same value as ``--clearance-mm`` and validated the same way
 (:func:`~cubot_cad.part.check_clearance`).
 
@@ -24,7 +24,7 @@ from .errors import InputError
 @dataclass(frozen=True)
 class Setting:
     """One tunable dimension: ``name`` (the dataclass field, unit suffix included), what it is, and
-    the robots (:data:`~cubot_cad.export.ROBOT_NAMES`) whose field of that name it sets."""
+    the robots (:data:`~cubot_cad.outputs.export.ROBOT_NAMES`) whose field of that name it sets."""
 
     name: str
     description: str

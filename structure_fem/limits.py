@@ -124,7 +124,7 @@ class StructureLevel:
 class PierRule:
     """Crossing a void over intermediate supports: piers of failed robots stacked with the
     top-down coupling, standing on the void floor with their top at the ledge height
-    (derived by :mod:`structure_fem.piers`; the thesis has no such rule).
+    (derived by :mod:`structure_fem.analysis.piers`; the thesis has no such rule).
 
     The structure ``structure`` (a level name of the record) advances as a cantilever from the
     near ledge to ``first_span_widths`` (that level's own threshold, its own counting rule), a
@@ -153,11 +153,11 @@ class PierRule:
     max_deflection_mm: float
     min_tipping_factor: float
     notes: str = ""
-    #: the pier's stack geometry, copied from the robot properties record (cubot_cad.pier;
+    #: the pier's stack geometry, copied from the robot properties record (cubot_cad.piers.pier;
     #: None when the record has none): floor to the top cover of one robot standing on its
     #: wheels, top cover to top cover of stacked robots, and the printed deck the line rolls
-    #: over on the top robot (cubot_cad.deck). The simulator turns a void's depth into robots
-    #: per pier with them (swarm_sim.piers.robots_per_pier).
+    #: over on the top robot (cubot_cad.piers.deck). The simulator turns a void's depth into robots
+    #: per pier with them (swarm_sim.behaviour.piers.robots_per_pier).
     standing_height_m: float | None = None
     stack_pitch_m: float | None = None
     deck_height_m: float | None = None

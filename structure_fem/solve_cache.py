@@ -47,14 +47,14 @@ def cache_path() -> Path:
 
 
 def code_hash() -> str:
-    """sha256 of the source of every structure_fem module and of cubot_cad/properties.py."""
+    """sha256 of the source of every structure_fem module (sub-packages too) and of cubot_cad/properties.py."""
     global _CODE_HASH
     if _CODE_HASH is None:
         here = Path(__file__).parent
-        files = sorted(here.glob("*.py")) + [here.parent / "cubot_cad" / "properties.py"]
+        files = sorted(here.rglob("*.py")) + [here.parent / "cubot_cad" / "properties.py"]
         h = hashlib.sha256()
         for f in files:
-            h.update(f.name.encode())
+            h.update(f.relative_to(here.parent).as_posix().encode())
             h.update(f.read_bytes())
         _CODE_HASH = h.hexdigest()
     return _CODE_HASH

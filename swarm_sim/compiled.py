@@ -5,11 +5,11 @@ while only *continuous* things happen, bit-identical to the reference :func:`swa
 :func:`_kernel` for up to ``S`` steps. Each kernel step is the reference step's
 arithmetic (same float operations, same order):
 
-* free robots walk: :func:`swarm_sim.explore._walk_kernel` itself, on the kernel's own Verlet
-  list (:func:`swarm_sim.grid.verlet_update` with a :data:`KERNEL_SKIN_CM` skin, rebuilt when a
+* free robots walk: :func:`swarm_sim.behaviour.explore._walk_kernel` itself, on the kernel's own Verlet
+  list (:func:`swarm_sim.engine.grid.verlet_update` with a :data:`KERNEL_SKIN_CM` skin, rebuilt when a
   bound on how far robots can have moved says so; exact whatever its history), with the step's
   random numbers (the reference's ``rng.random((4, k))`` from the generator's own PCG64
-  state, :mod:`swarm_sim.pcg64`: only the few the walk reads are computed, by jump-ahead
+  state, :mod:`swarm_sim.engine.pcg64`: only the few the walk reads are computed, by jump-ahead
   from the step's start, and the commit jumps the stream past the step, so the numbers and
   the stream's end are numpy's) and the walkers' cos/sin of heading kept between steps
   (recomputed only for a robot that turned);
@@ -18,8 +18,8 @@ arithmetic (same float operations, same order):
   ``advance``/``back`` slide with the members placed at
   their slots, or ``recruit``: every recruit drives along its cost-field path
   (:func:`_goto`, :func:`_slide_off`, :func:`_drive_along`, :func:`_pose_ok1`,
-  :func:`_waypoint`, :func:`_cost_at` are njit ports of :mod:`swarm_sim.motion`,
-  :class:`swarm_sim.world.World` and :class:`swarm_sim.navigation.CostField`) with the
+  :func:`_waypoint`, :func:`_cost_at` are njit ports of :mod:`swarm_sim.engine.motion`,
+  :class:`swarm_sim.engine.world.World` and :class:`swarm_sim.engine.navigation.CostField`) with the
   progress/stall bookkeeping;
 * the watchdog clock, the target check, the post-retreat wander clock, the time limit and
   the lost-robot check (and, with ``check=True``, the per-robot invariants).
@@ -41,9 +41,9 @@ Three functions differ between Python and numba and are handled explicitly:
 float (libm ``pow``, not ``x * x``: :func:`_pose_ok1` calls ``math.pow`` with a run-time
 exponent so LLVM cannot fold it) and ``np.hypot`` (libm, the same as numba's ``math.hypot``).
 
-Tapering arches (:mod:`swarm_sim.taper`): the feet's robots stand at their slots (carried);
+Tapering arches (:mod:`swarm_sim.behaviour.taper`): the feet's robots stand at their slots (carried);
 a foot round's robots drive to their staging points and climb (a timer) beside the core's
-action, as :func:`swarm_sim.feet.advance_job` does; an idle tapered structure whose decision
+action, as :func:`swarm_sim.behaviour.feet.advance_job` does; an idle tapered structure whose decision
 is ``hold`` (:func:`_holds`) holds until the round changes stage.
 
 What is not fast-forwarded (always reference steps): idle steps that decide anything but
@@ -60,11 +60,12 @@ import time
 
 import numpy as np
 
-from . import pcg64
-from .borrow import address
-from .grid import HAVE_NUMBA, numba, workspace
-from .navigation import _HOPS, BLOCKED
-from .recruitment import slot_field
+from swarm_sim.behaviour.recruitment import slot_field
+from swarm_sim.engine import pcg64
+from swarm_sim.engine.borrow import address
+from swarm_sim.engine.grid import HAVE_NUMBA, numba, workspace
+from swarm_sim.engine.navigation import _HOPS, BLOCKED
+
 from .state import OPEN, WALKING_MODES, Mode, Phase, evolve
 
 _EXPLORE, _TARGET = int(Mode.EXPLORE), int(Mode.TARGET)
@@ -99,11 +100,11 @@ KERNEL_SKIN_CM = 10.0
 AVAILABLE = HAVE_NUMBA
 
 if HAVE_NUMBA:
-    from .borrow import bool_at, borrowed, float64_at, int64_at
-    from .explore import _walk_kernel, _wrap
-    from .grid import verlet_update
-    from .navigation import _cell_ij, _near
-    from .pcg64 import jump as pcg_jump
+    from swarm_sim.behaviour.explore import _walk_kernel, _wrap
+    from swarm_sim.engine.borrow import bool_at, borrowed, float64_at, int64_at
+    from swarm_sim.engine.grid import verlet_update
+    from swarm_sim.engine.navigation import _cell_ij, _near
+    from swarm_sim.engine.pcg64 import jump as pcg_jump
 
     @numba.njit(cache=True, inline="always")
     def _two_prod(x, y):  # pragma: no cover - compiled
@@ -217,7 +218,7 @@ if HAVE_NUMBA:
 
     @numba.njit(cache=True)
     def _slide_off(x, y, h, dist, hl, hw, W, H, x0, x1, obs, r, two):  # pragma: no cover - compiled
-        """:func:`swarm_sim.motion.slide_off`."""
+        """:func:`swarm_sim.engine.motion.slide_off`."""
         mid = 0.5 * (x0 + x1)
         sx = x - dist if x < mid else x + dist
         if _pose_ok1(sx, y, h, hl, hw, W, H, x0, x1, obs, r, two):
@@ -227,7 +228,7 @@ if HAVE_NUMBA:
     @numba.njit(cache=True)
     def _goto(x, y, h, tx, ty, has_final, final_h, has_align, align_h, dist, tm,
               hl, hw, W, H, x0, x1, obs, r, two):  # pragma: no cover - compiled
-        """:func:`swarm_sim.motion.goto` (``final_heading``/``align_h`` None <=> ``has_*`` False)."""
+        """:func:`swarm_sim.engine.motion.goto` (``final_heading``/``align_h`` None <=> ``has_*`` False)."""
         dx = tx - x
         dy = ty - y
         # the norm is needed exactly only when it is small (the arrival test, the last step) or in
@@ -317,7 +318,7 @@ if HAVE_NUMBA:
     @numba.njit(cache=True)
     def _drive_along(x, y, h, final_h, align_h, cost, nxt, closed, goal_cell, gx, gy, cell, gnx, gny, window,
                      gcx, gcy, blocked, hops, dist, tm, hl, hw, W, H, x0, x1, obs, r, two):  # pragma: no cover
-        """:func:`swarm_sim.motion.drive_along` (``align_h`` given, as the recruits call it), and
+        """:func:`swarm_sim.engine.motion.drive_along` (``align_h`` given, as the recruits call it), and
         the field's value it read (``-inf``: none; :func:`_waypoint`)."""
         if _hypot_below(x - gx, y - gy, 1e-9):
             _, _, nh, done = _goto(gx, gy, h, gx, gy, True, final_h, False, 0.0, dist, tm,
@@ -366,12 +367,12 @@ if HAVE_NUMBA:
         check, check invariants, retreating, landed, phase WANDER); ``sf``: structure floats;
         ``rec_f`` (R, 7): per recruit dock x, y, goal x, y, best, since, -; ``rec_final`` (R,).
         ``job``: the foot round's stage (J_NONE, J_DRIVE, J_CLIMB), ``sf[20]`` its climb's end (s);
-        ``job_f`` (J, 4): per round robot staging x, y, best, since (:func:`swarm_sim.feet.advance_job`).
+        ``job_f`` (J, 4): per round robot staging x, y, best, since (:func:`swarm_sim.behaviour.feet.advance_job`).
         ``walked`` (5, n): written when a step is computed but not committed after its walk (every
         stop but ``seed`` and ``verlet_grow``): x, y, heading, goal heading and run left after that
         step's walk, for the reference step to take instead of walking again."""
         # the arrays passed on to compiled calls every step (the walk, the recruits' drive) as borrowed
-        # views: no reference counts per call (swarm_sim.borrow; the caller holds the arrays)
+        # views: no reference counts per call (swarm_sim.engine.borrow; the caller holds the arrays)
         x, y, h, goal, run_left, walkers, rw, jt, nbr_start, nbr_idx, obs, obs_none = (
             borrowed(x), borrowed(y), borrowed(h), borrowed(goal), borrowed(run_left), borrowed(walkers),
             borrowed(rw), borrowed(jt), borrowed(nbr_start), borrowed(nbr_idx), borrowed(obs), borrowed(obs_none))
@@ -723,7 +724,8 @@ def _drop_stale_cache() -> None:
     import hashlib
     import os
 
-    from . import borrow, explore, grid, navigation, pcg64
+    from swarm_sim.behaviour import explore
+    from swarm_sim.engine import borrow, grid, navigation, pcg64
 
     path = getattr(getattr(_kernel, "_cache", None), "_cache_path", None)
     if not path or not os.path.isdir(path):
@@ -783,8 +785,9 @@ def _holds(state, p, world) -> bool:
     with nothing to do): it decides ``hold`` again every step until something discrete
     happens, since nothing its decision reads changes in a kernel step (the structure, the
     free robots' modes, the world)."""
-    from . import feet
-    from .recruitment import free_robots
+    from swarm_sim.behaviour import feet
+    from swarm_sim.behaviour.recruitment import free_robots
+
     from .step import choose
 
     st = state.structure
@@ -808,7 +811,7 @@ def _context(p, world) -> tuple:
     hit = _CONTEXTS.get(key)
     if hit is not None and hit[0] is p and hit[1] is world:
         return hit[2]
-    from .navigation import nav_grid
+    from swarm_sim.engine.navigation import nav_grid
 
     x0 = world.x0_cm if np.isfinite(world.x0_cm) else 1e308
     x1 = world.x1_cm if np.isfinite(world.x1_cm) else 1e308
@@ -826,7 +829,7 @@ def _context(p, world) -> tuple:
 
 def _field_table(fields: list) -> tuple:
     """The cost fields for the kernel, read where they lie: per field the data addresses of its
-    cost, next-cell and closed arrays (``(F, 3)`` int64: :func:`swarm_sim.borrow.address`), the
+    cost, next-cell and closed arrays (``(F, 3)`` int64: :func:`swarm_sim.engine.borrow.address`), the
     goal cell of each and its row. A field settled further (``CostField.extend``) is settled in
     place, so the kernel sees it at once; the caller keeps ``fields`` (and so the arrays) alive
     while the kernel runs. (Before, the fields were copied into one stacked array per call:
@@ -911,9 +914,9 @@ def fast_forward(state, p, world, rng: np.random.Generator, check: bool = False,
             sh = np.asarray(st.shell, dtype=np.int64)
             carried[sh[sh != OPEN]] = True
         if st.job:
-            from . import feet
-            from . import taper as T
-            from .navigation import cost_field
+            from swarm_sim.behaviour import feet
+            from swarm_sim.behaviour import taper as T
+            from swarm_sim.engine.navigation import cost_field
 
             if st.job_stage == "drive":
                 g = feet.geometry(st, p)

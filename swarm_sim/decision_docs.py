@@ -12,8 +12,8 @@ from __future__ import annotations
 import re
 import sys
 
-from . import structure as S
-from . import taper as T
+from swarm_sim.behaviour import structure as S
+from swarm_sim.behaviour import taper as T
 
 TABLES = {
     "BUILD_TABLE": S.BUILD_TABLE, "RETREAT_TABLE": S.RETREAT_TABLE,
@@ -40,7 +40,7 @@ def render(text: str) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from structure_fem.docs_blocks import rewrite
+    from structure_fem.outputs.docs_blocks import rewrite
 
     return rewrite(argv, render, "docs/swarm_sim.md", "python -m swarm_sim.decision_docs")
 

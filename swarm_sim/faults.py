@@ -246,7 +246,7 @@ _MODE_OF_BITS = {v: k for k, v in BIT.items()}
 def fail(tk) -> None:
     """The step's first phase: every fault due by the end of this step happens (the physics:
     ``tk.fault`` gains the mode's :data:`EFFECT`; no robot reads another's flags, see
-    :mod:`swarm_sim.detection`). Each new fault is one ``fault`` event naming the mode and
+    :mod:`swarm_sim.behaviour.detection`). Each new fault is one ``fault`` event naming the mode and
     what the robot was doing."""
     sch = tk.fault_schedule
     if sch is None:

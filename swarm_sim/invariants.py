@@ -2,11 +2,11 @@
 
 * robot count conserved (no robot vanishes, no NaN pose);
 * no robot body over the void unless it is a member of a structure that satisfies
-  the stability rule (:func:`swarm_sim.structure.stable`) where it stands;
+  the stability rule (:func:`swarm_sim.behaviour.structure.stable`) where it stands;
 * no robot outside the arena walls;
 * structure bookkeeping: members unique, their ``struct_index`` equals 1..n front to rear,
   member poses lie on the structure's line;
-* tapering arch (:mod:`swarm_sim.taper`): every shell slot holds at most one robot and no
+* tapering arch (:mod:`swarm_sim.behaviour.taper`): every shell slot holds at most one robot and no
   robot is both in the core and in a foot; shell robots sit at their slot pose with their
   (q, layer, foot) roles; the rule is checked in robots (core rows plus shell robots).
 """
@@ -15,13 +15,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import piers as PR
-from . import rule as R
-from . import structure as S
-from . import taper as T
+from swarm_sim.behaviour import piers as PR
+from swarm_sim.behaviour import rule as R
+from swarm_sim.behaviour import structure as S
+from swarm_sim.behaviour import taper as T
+from swarm_sim.engine.world import World
+
 from .params import Params, level_params
 from .state import OPEN, Mode, SwarmState
-from .world import World
 
 
 def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> list[str]:
@@ -45,7 +46,7 @@ def violations(state: SwarmState, p: Params, world: World, n_robots: int) -> lis
     x, y = state.x_cm, state.y_cm
     over = (x + ex > world.x0_cm + 1e-9) & (x - ex < world.x1_cm - 1e-9)
     # supported otherwise: robots stacked in a pier (on the floor) and a pier round's robots
-    # riding on the structure's top (swarm_sim.piers)
+    # riding on the structure's top (swarm_sim.behaviour.piers)
     held = members | set(np.flatnonzero(state.mode == Mode.PIER).tolist()) | set(
         PR.carried(st) if st is not None else ())
     for i in (np.flatnonzero(over) if over.any() else ()):

@@ -67,7 +67,7 @@ class Params:
     arena_h_cm: float = 300.0
     void_left_x_cm: float | None = None  # None: void centred
     #: ledge to floor (cm); 0: not given (the thesis's voids: vertical sides, no floor in reach),
-    #: then no pier can be built (swarm_sim.piers)
+    #: then no pier can be built (swarm_sim.behaviour.piers)
     void_depth_cm: float = 0.0
     robot_length_cm: float = 10.0
     robot_width_cm: float = 10.0
@@ -97,10 +97,10 @@ class Params:
     # behaviour timing of the structure (not in the thesis; small, documented)
     release_clear_s: float = 1.0
     #: a recruit whose remaining path has not shortened by half a grid cell for this long is
-    #: released and the next closest free robot is called (swarm_sim.recruitment)
+    #: released and the next closest free robot is called (swarm_sim.behaviour.recruitment)
     recruit_stall_s: float = 20.0
     #: a building structure that has not docked, moved, released, switched or seen a robot
-    #: come closer for this long retreats (swarm_sim.retreat.watchdog)
+    #: come closer for this long retreats (swarm_sim.behaviour.retreat.watchdog)
     stall_s: float = 120.0
     launch_min_robots: int = 3
     #: tapering arch: seconds a robot takes to climb (or come down) one layer onto a foot
@@ -129,7 +129,7 @@ class Params:
     #: structure = "switch": every level of the record, in order, as (name, lines, layers,
     #: ground_ratio, ground_margin incl. case margin, max_span_widths, taper_block_rows or 0)
     switch_levels: tuple = ()
-    #: piers (swarm_sim.piers; from the limits record's pier rule, 0 / () when it has none or
+    #: piers (swarm_sim.behaviour.piers; from the limits record's pier rule, 0 / () when it has none or
     #: this void's depth takes no pier): robots per pier, piers allowed, the rule beyond a pier
     pier_robots: int = 0
     pier_max: int = 0
@@ -157,7 +157,7 @@ class Params:
 
     @property
     def rule(self) -> tuple[float, int, int]:
-        """(ground_ratio, ground_margin, max_span_widths): the arguments of :func:`swarm_sim.rule.stable`."""
+        """(ground_ratio, ground_margin, max_span_widths): the arguments of :func:`swarm_sim.behaviour.rule.stable`."""
         return self.ground_ratio, self.ground_margin, self.max_span_widths
 
     @property

@@ -181,7 +181,7 @@ class Renderer:
         x0, x1 = p.void_x0_cm, p.void_x1_cm
         sv.add_patch(Rectangle((0, -3 * L), x0, 3 * L, color="#c8b48a"))
         sv.add_patch(Rectangle((x1, -3 * L), p.arena_w_cm - x1, 3 * L, color="#c8b48a"))
-        if 0 < p.void_depth_cm < 3 * L:  # the void's floor, where piers stand (swarm_sim.piers)
+        if 0 < p.void_depth_cm < 3 * L:  # the void's floor, where piers stand (swarm_sim.behaviour.piers)
             sv.add_patch(Rectangle((x0, -3 * L), x1 - x0, 3 * L - p.void_depth_cm, color="#a8946a"))
         self.side = PolyCollection([], edgecolors="k", linewidths=0.5)
         sv.add_collection(self.side)

@@ -1,6 +1,6 @@
 """Resolving a run's parameters against a ``StructureLimits`` record: the structure (line,
-switch, auto), its counting rule and robot minimum (swarm_sim.taper for tapering arches), and
-the pier rule (swarm_sim.rule). Above params, taper and rule, so the parameter record itself
+switch, auto), its counting rule and robot minimum (swarm_sim.behaviour.taper for tapering arches), and
+the pier rule (swarm_sim.behaviour.rule). Above params, taper and rule, so the parameter record itself
 depends on no behaviour."""
 
 from __future__ import annotations
@@ -8,10 +8,11 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+from swarm_sim.behaviour.rule import robots_per_pier
+from swarm_sim.behaviour.taper import rule_min_robots
+
 from .errors import InputError
 from .params import Params
-from .rule import robots_per_pier
-from .taper import rule_min_robots
 
 
 def with_limits(params: Params, limits) -> Params:
@@ -44,7 +45,7 @@ def with_limits(params: Params, limits) -> Params:
         return 2 if lvl.tapered else lvl.lines * lvl.layers
 
     def taper_need(chain):
-        """Rule minimum of a chain ending in tapering arches (swarm_sim.taper.rule_min_robots)."""
+        """Rule minimum of a chain ending in tapering arches (swarm_sim.behaviour.taper.rule_min_robots)."""
         flat = [lvl for lvl in chain if not lvl.tapered]
         tap = [lvl for lvl in chain if lvl.tapered]
         F = G = need = 0
@@ -103,7 +104,7 @@ def with_limits(params: Params, limits) -> Params:
 
 
 def _pier_fields(params: Params, limits, level) -> dict:
-    """The pier rule for this run (swarm_sim.piers): none without a rule in the record, for a
+    """The pier rule for this run (swarm_sim.behaviour.piers): none without a rule in the record, for a
     structure other than the rule's, or for a depth no stack of robots fits."""
     rule = getattr(limits, "piers", None)
     none = {"pier_robots": 0, "pier_max": 0}

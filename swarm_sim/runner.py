@@ -15,15 +15,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from swarm_sim.behaviour.retreat import end_reason
+from swarm_sim.engine.world import World
 from swarm_sim.params import Params, load_preset, with_overrides
 from swarm_sim.resolve import with_limits
 
 from .errors import InputError, InvariantViolation
 from .invariants import lost_robots, violations
-from .retreat import end_reason
 from .state import Mode, Phase, SwarmState, new_state
 from .step import ENDED, step
-from .world import World
 
 _OVER = re.compile(r"robot (\d+) .*over the void")
 
@@ -61,7 +61,7 @@ class RunResult:
     #: the limits record's own robot count for this void (thesis: the complete arch)
     record_min_robots: int = 0
     #: how the run ended: crossed | retreated-no-robots | retreated-span | retreated-stalled |
-    #: retreated-blocked | retreated-no-room | timeout (swarm_sim.retreat.end_reason)
+    #: retreated-blocked | retreated-no-room | timeout (swarm_sim.behaviour.retreat.end_reason)
     end_reason: str | None = None
     #: recruits released because they made no progress, and the robot called instead (-1: none)
     hand_overs: int = 0
@@ -183,7 +183,7 @@ def with_faults(s: SwarmState, p: Params, seed: int) -> SwarmState:
 
 
 def pier_records(events) -> list[dict]:
-    """Per pier the run built (swarm_sim.piers): where (its near face, cm past the near edge),
+    """Per pier the run built (swarm_sim.behaviour.piers): where (its near face, cm past the near edge),
     the robots stacked in it (lowest first), how many it needed and whether it was completed."""
     out: list[dict] = []
     for t, kind, r, d in events:

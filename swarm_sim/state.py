@@ -22,7 +22,7 @@ class Mode(IntEnum):
     TARGET = 4    # -2: released at the front, explores the target side
     RETREAT = 5   # -3: released at the rear after a failed crossing, wanders
     STOPPED = 6   # -3 after the wander period (failure) / any robot once the run ended
-    PIER = 7      # -4: a failed robot stacked in a pier on the void's floor (swarm_sim.piers)
+    PIER = 7      # -4: a failed robot stacked in a pier on the void's floor (swarm_sim.behaviour.piers)
 
 
 #: Modes whose motion is the exploration walk (vectorised over a mask).
@@ -83,7 +83,7 @@ class Structure:
     landed: bool = False
     retreating: bool = False
     level: int = 0                   # index into Params.switch_levels (structure = "switch")
-    #: tapering arch (swarm_sim.taper): robot per shell slot (OPEN when empty), in
+    #: tapering arch (swarm_sim.behaviour.taper): robot per shell slot (OPEN when empty), in
     #: ShellGeometry slot order; () for structures without feet
     shell: tuple[int, ...] = ()
     #: a foot job under way: robots, one column each, kind fill_near | fill_far | unfill_near |
@@ -95,7 +95,7 @@ class Structure:
     job_until_s: float = 0.0
     job_best_cm: tuple[float, ...] = ()
     job_progress_s: tuple[float, ...] = ()
-    #: piers (swarm_sim.piers): per pier (near face s past the near edge, cm; robots in it), the
+    #: piers (swarm_sim.behaviour.piers): per pier (near face s past the near edge, cm; robots in it), the
     #: robots in piers, and the round under way: (carrier, failed robot), its stage, the
     #: carrier's pick-up point (cm), when a timed stage ends, its best path (cm) and last progress (s)
     piers: tuple[tuple[float, int], ...] = ()

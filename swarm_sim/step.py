@@ -1,21 +1,21 @@
 """One simulation step: ``step(state, params, world, rng) -> state`` (inputs are not mutated).
 
 A step is the sequence :data:`PHASES` (dt = ``params.dt_s``), each a function of the step's
-working copy (:class:`swarm_sim.tick.Tick`):
+working copy (:class:`swarm_sim.engine.tick.Tick`):
 
 0. :func:`~swarm_sim.faults.fail`: the faults due by the end of the step happen (runs with
-   faults only; what the swarm then senses and does is :mod:`swarm_sim.detection`);
+   faults only; what the swarm then senses and does is :mod:`swarm_sim.behaviour.detection`);
 1. :func:`detect_seed` (search phase): an initial explorer whose ground sensor sees the
    void becomes the seed (ties: the one nearest the void) and the ``void found``
    broadcast stops others from seeding;
-2. :func:`walk_free`: free robots walk (vectorised over the walking modes, :mod:`swarm_sim.explore`);
+2. :func:`walk_free`: free robots walk (vectorised over the walking modes, :mod:`swarm_sim.behaviour.explore`);
 3. :func:`move_structure`: the structure's current action moves (align, wait, advance/back,
-   the recruits' approach: :mod:`swarm_sim.recruitment`) and a foot round under way
-   advances (:mod:`swarm_sim.feet`);
+   the recruits' approach: :mod:`swarm_sim.behaviour.recruitment`) and a foot round under way
+   advances (:mod:`swarm_sim.behaviour.feet`);
 4. :func:`decide`: an idle structure takes the first matching row of its decision table
-   (:mod:`swarm_sim.structure`, :mod:`swarm_sim.taper`) and does it through :data:`ACTIONS`;
+   (:mod:`swarm_sim.behaviour.structure`, :mod:`swarm_sim.behaviour.taper`) and does it through :data:`ACTIONS`;
 5. :func:`watch`: the watchdog (a structure that cannot proceed retreats) and the
-   dissolution (:mod:`swarm_sim.retreat`); members are placed where the structure stands;
+   dissolution (:mod:`swarm_sim.behaviour.retreat`); members are placed where the structure stands;
 6. :func:`finish`: the target check, the post-retreat wander clock and the time-limit guard.
 """
 
@@ -25,20 +25,21 @@ import math
 
 import numpy as np
 
-from . import detection as DT
-from . import feet
-from . import piers as PR
-from . import recruitment as RC
-from . import release as RL
-from . import retreat as RT
-from . import structure as S
-from . import taper as T
-from .explore import walk
+from swarm_sim.behaviour import detection as DT
+from swarm_sim.behaviour import feet
+from swarm_sim.behaviour import piers as PR
+from swarm_sim.behaviour import recruitment as RC
+from swarm_sim.behaviour import release as RL
+from swarm_sim.behaviour import retreat as RT
+from swarm_sim.behaviour import structure as S
+from swarm_sim.behaviour import taper as T
+from swarm_sim.behaviour.explore import walk
+from swarm_sim.engine.tick import Tick
+from swarm_sim.engine.world import wrap
+
 from .faults import DRIVE, SENSOR, fail
 from .params import at_level, level_params
 from .state import OPEN, WALKING_MODES, Mode, Phase, Structure, SwarmState, evolve
-from .tick import Tick
-from .world import wrap
 
 _EXPLORE, _SEED, _MEMBER = int(Mode.EXPLORE), int(Mode.SEED), int(Mode.MEMBER)
 _TARGET, _STOPPED, _PIER = int(Mode.TARGET), int(Mode.STOPPED), int(Mode.PIER)
@@ -106,7 +107,7 @@ def _align(tk: Tick) -> None:
     dist = p.speed_cm_s * p.dt_s
     s0 = st.members[0]
     if tk.is_failed(s0, DRIVE):
-        return  # it cannot align (swarm_sim.detection.seed_failed)
+        return  # it cannot align (swarm_sim.behaviour.detection.seed_failed)
     dir_h = math.atan2(st.dir_y, st.dir_x)
     hx, hy, hh = float(tk.x[s0]), float(tk.y[s0]), float(tk.h[s0])
     d = float(wrap(np.array(dir_h - hh)))
@@ -252,7 +253,7 @@ def decide(tk: Tick) -> None:
     if st is None or tk.phase != _P_BUILD or st.action != "idle":
         return
     if tk.fault is not None and not DT.can_decide(tk):
-        return  # every member is silent (swarm_sim.detection.watch ends it)
+        return  # every member is silent (swarm_sim.behaviour.detection.watch ends it)
     g = feet.geometry(st, p)
     if g is not None and not st.shell:
         tk.st = st = evolve(st, shell=T.empty_shell(g))

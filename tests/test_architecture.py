@@ -17,6 +17,23 @@ PACKAGES = ("cubot_cad", "structure_fem", "swarm_sim", "voidcross")
 ORDER = {p: i for i, p in enumerate(PACKAGES)}
 #: Heavy dependencies swarm_sim must import without (the brief: it runs where no CAD or FE is installed).
 NOT_IN_SWARM_SIM = ("cadquery", "OCP", "exudyn", "gmsh", "skfem")
+#: The layers inside each package, lowest first: a sub-package (folder) or a top-level module
+#: imports only from its own layer or a lower one. The root ``__init__`` (a facade of
+#: re-exports) is exempt; every other module must be placed.
+LAYERS = {
+    "cubot_cad": [
+        {"errors", "atomic", "jsonrecord", "shapes", "part", "properties", "settings", "mesh", "manifest"},
+        {"hardware"}, {"couplings"}, {"robots"}, {"checks"}, {"piers"}, {"outputs"},
+    ],
+    "structure_fem": [
+        {"errors", "limits", "solve_cache"}, {"couplings"}, {"model"}, {"analysis"}, {"outputs"},
+    ],
+    "swarm_sim": [
+        {"errors", "state", "params", "faults"}, {"engine"}, {"behaviour"},
+        {"resolve", "step", "compiled", "invariants", "render", "runner", "decision_docs"},
+        {"experiments", "sweeps"},
+    ],
+}
 
 
 def module_files(root: Path, package: str) -> dict[str, tuple[Path, bool]]:
@@ -148,6 +165,45 @@ def test_swarm_sim_names_no_cad_or_fe_library():
     assert not bad, "; ".join(bad)
 
 
+def layer_of(module: str, package: str) -> int | None:
+    """The layer of ``module`` (its first name below ``package``); None for the root ``__init__``."""
+    rest = module[len(package) + 1:].split(".")[0] if module != package else None
+    if rest is None:
+        return None
+    for i, names in enumerate(LAYERS[package]):
+        if rest in names:
+            return i
+    raise AssertionError(f"{module} is in no layer of tests/test_architecture.py LAYERS[{package!r}]: "
+                         "place it (and say so in docs/architecture.md)")
+
+
+def upward_arrows(g: dict, package: str) -> list[str]:
+    out = []
+    for m, arrows in g.items():
+        lm = layer_of(m, package)
+        if lm is None:
+            continue
+        for t, line in arrows:
+            lt = layer_of(t, package)
+            if lt is not None and lt > lm:
+                out.append(f"{m}:{line} imports {t} (layer {lm} -> {lt})")
+    return out
+
+
+@pytest.mark.parametrize("package", sorted(LAYERS))
+def test_inside_a_package_arrows_point_down_the_layers(package):
+    bad = upward_arrows(graph(ROOT, package), package)
+    assert not bad, "upward arrows between sub-packages: " + "; ".join(bad)
+
+
+@pytest.mark.parametrize("package", sorted(LAYERS))
+def test_every_sub_package_says_what_lives_there_and_what_it_may_import(package):
+    for init in sorted((ROOT / package).glob("*/__init__.py")):
+        doc = ast.get_docstring(ast.parse(init.read_text())) or ""
+        assert len(doc.strip().splitlines()) >= 2 and "may import" in doc.lower(), \
+            f"{init.relative_to(ROOT)}: a docstring of two lines, what lives here and what it may import"
+
+
 # -- the checker checks: it finds what it is for ------------------------------------------------
 
 def _write(root: Path, files: dict[str, str]) -> None:
@@ -179,3 +235,17 @@ def test_the_checker_passes_a_one_way_tree(tmp_path):
     g = graph(tmp_path, "pkg")
     assert circles(g) == []
     assert ("pkg.low", 1) in g["pkg.sub.high"] and ("pkg.sub.mid", 2) in g["pkg.sub.high"]
+
+
+def test_the_checker_finds_an_arrow_up_the_layers(tmp_path, monkeypatch):
+    _write(tmp_path, {
+        "cubot_cad/__init__.py": "",
+        "cubot_cad/part.py": "from cubot_cad.robots.base import Robot\n",  # core -> robots: up
+        "cubot_cad/robots/__init__.py": "",
+        "cubot_cad/robots/base.py": "from cubot_cad.part import x\n",
+    })
+    g = graph(tmp_path, "cubot_cad")
+    assert upward_arrows(g, "cubot_cad") == ["cubot_cad.part:1 imports cubot_cad.robots.base (layer 0 -> 3)"]
+    _write(tmp_path, {"cubot_cad/stray.py": ""})
+    with pytest.raises(AssertionError, match="stray is in no layer"):
+        upward_arrows(graph(tmp_path, "cubot_cad"), "cubot_cad")

@@ -456,7 +456,7 @@ def limits(name: str | os.PathLike = "derived") -> StructureLimits:
 
 def _fem_options(properties, robot, clearance_mm, caster, connectors, max_width_robots, stiffness_scale,
                  backlash_scale, mass_scale, tipping, flexible, dynamic=True):
-    from structure_fem.runs import RunOptions
+    from structure_fem.outputs.runs import RunOptions
 
     try:
         import exudyn  # noqa: F401
@@ -476,7 +476,7 @@ def fem_table(properties: str | os.PathLike | None = None, robot: str = "cubot",
               out: str | os.PathLike | None = None) -> list[dict]:
     """The structure-selection table, one record per void width, as ``voidcross fem table`` derives it.
 
-    Calls :func:`structure_fem.runs.run_table` (the function behind ``voidcross fem table``; its
+    Calls :func:`structure_fem.outputs.runs.run_table` (the function behind ``voidcross fem table``; its
     ``--json --full-json`` output holds these rows under ``table``): the multibody model solves
     every candidate structure, finds each one's threshold, and the table gives, for each void
     width, the structure used and its launch and bridged states. Each record also carries its
@@ -534,7 +534,7 @@ def fem_table(properties: str | os.PathLike | None = None, robot: str = "cubot",
         >>> rows[2]["max_deflection_mm"], rows[2]["min_robots"]      # 3-wide void: the line
         (4.97, 7)
     """
-    from structure_fem.runs import run_table
+    from structure_fem.outputs.runs import run_table
 
     opts = _fem_options(properties, robot, clearance_mm, caster, connectors, max_width_robots, stiffness_scale,
                         backlash_scale, mass_scale, tipping, flexible, dynamic)
@@ -561,8 +561,8 @@ def deflection_curves(properties: str | os.PathLike | None = None, robot: str = 
     """Tip deflection at the longest cantilever for each candidate structure and void width.
 
     What ``voidcross fem study`` writes to ``deflection_vs_width.csv`` and plots in
-    ``deflection_vs_width.png``: :func:`structure_fem.study.derive` on the inputs
-    ``structure_fem.runs.make_inputs`` builds, one record per solved (structure, width). Each
+    ``deflection_vs_width.png``: :func:`structure_fem.analysis.study.derive` on the inputs
+    ``structure_fem.outputs.runs.make_inputs`` builds, one record per solved (structure, width). Each
     structure is solved at its minimal row count (the fewest rows that stand) with its front
     at the far edge, the worst moment of the launch; widths are those the threshold search
     solved (1..8 one by one, then doubling and bisection, 2 past the threshold), up to
@@ -592,8 +592,8 @@ def deflection_curves(properties: str | os.PathLike | None = None, robot: str = 
         >>> [round(c["tip_deflection_mm"], 2) for c in curves if c["structure"] == "line"]
         [0.54, 2.18, 4.97, 9.22]
     """
-    from structure_fem.runs import make_inputs
-    from structure_fem.study import derive
+    from structure_fem.analysis.study import derive
+    from structure_fem.outputs.runs import make_inputs
 
     opts = _fem_options(properties, robot, clearance_mm, caster, connectors, max_width_robots, stiffness_scale,
                         backlash_scale, mass_scale, tipping, flexible)

@@ -4,6 +4,7 @@
 ``executors`` runs keys on a process pool or a Dask cluster; ``sweep`` ties
 them together (:func:`prepare_sweep`, :func:`run_sweep`); ``export`` writes
 CSV/Parquet. Nothing here imports the simulator until a run executes.
+May import every swarm_sim module (an experiments layer); nothing below it imports it.
 """
 
 from .ranges import format_int_range, parse_int_range

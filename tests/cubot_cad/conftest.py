@@ -12,14 +12,14 @@ pytest.importorskip("manifold3d")
 
 @pytest.fixture(scope="session")
 def robots():
-    from cubot_cad.registry import ROBOT_NAMES, make_robot
+    from cubot_cad.robots.registry import ROBOT_NAMES, make_robot
 
     return {name: make_robot(name) for name in ROBOT_NAMES}
 
 
 @pytest.fixture(scope="session")
 def pairs():
-    from cubot_cad.docking import PAIRS, dock
+    from cubot_cad.checks.docking import PAIRS, dock
 
     return {name: dock(name) for name in PAIRS}
 
@@ -28,8 +28,8 @@ def pairs():
 def export_dir(tmp_path_factory, pairs):
     """A fresh `cad export --robot all` (STL + STEP + GLB, the CLI's default formats) with the
     docked pairs checked and their measured gaps in the record, as the CLI does it."""
-    from cubot_cad.export import DEFAULT_FORMATS, export_robots
-    from cubot_cad.registry import ROBOT_NAMES
+    from cubot_cad.outputs.export import DEFAULT_FORMATS, export_robots
+    from cubot_cad.robots.registry import ROBOT_NAMES
 
     out = tmp_path_factory.mktemp("exports")
     export_robots(ROBOT_NAMES, out, DEFAULT_FORMATS, "abs", 0.2, pairs=list(pairs.values()))

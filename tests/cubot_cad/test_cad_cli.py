@@ -75,9 +75,9 @@ def test_pipeline_stage_sets_the_context(tmp_path, pairs):
     assert "GLB" in line and "renders" in line
     # sliced as the packaged record is: `make demo`'s structure study derives for the packaged CuBot
     # (the README's thresholds) and finds its packaged launch transients
+    from cubot_cad.checks.slicing import slicer_path
     from cubot_cad.jsonrecord import to_jsonable
     from cubot_cad.properties import default_properties
-    from cubot_cad.slicing import slicer_path
 
     assert slicer_path() is not None, "make's clients target installs prusa-slicer"
     assert "sliced masses" in line
@@ -139,8 +139,8 @@ def test_an_export_whose_docked_pair_fails_exits_2_and_writes_nothing(cli, tmp_p
                                                                       failure):
     import dataclasses
 
-    import cubot_cad.docking as docking
-    from cubot_cad.registry import make_robot
+    import cubot_cad.checks.docking as docking
+    from cubot_cad.robots.registry import make_robot
 
     real = docking.dock("platform-bolt", 0.2)
     if failure == "interference":  # a real overlap: the rear plate's recess shifted 1 mm onto the tab
@@ -165,7 +165,7 @@ def test_an_export_whose_docked_pair_fails_exits_2_and_writes_nothing(cli, tmp_p
 def test_a_failed_export_leaves_no_trace(cli, tmp_path, monkeypatch, good_export):
     """An internal failure half-way (the third part's mesh) removes everything it wrote: no new
     empty or partial --out, nothing added to or replaced in an existing one."""
-    import cubot_cad.export as export
+    import cubot_cad.outputs.export as export
 
     real, calls = export.mesh_of, []
 

@@ -10,7 +10,7 @@ import pytest
 
 
 def _fresh(name="cubot", **kw):
-    from cubot_cad.registry import make_robot
+    from cubot_cad.robots.registry import make_robot
 
     return make_robot(name, 0.2, tuple(sorted(kw.items())))
 
@@ -90,7 +90,7 @@ def test_a_wall_beyond_the_wheels_names_the_dimension_to_change():
 
 
 def test_pin_diameter_moves_pins_holes_and_docks(robots):
-    from cubot_cad.docking import dock
+    from cubot_cad.checks.docking import dock
 
     base = robots["cubot"]
     fat = _fresh(pin_diameter_mm=5.5)
@@ -141,7 +141,7 @@ def test_export_with_set_records_and_uses_the_values(cli, tmp_path, robots):
 
 
 def _fresh_c(c, **kw):
-    from cubot_cad.registry import make_robot
+    from cubot_cad.robots.registry import make_robot
 
     return make_robot("cubot", c, tuple(sorted(kw.items())))
 

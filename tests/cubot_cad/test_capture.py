@@ -1,12 +1,12 @@
 """Lead-ins and capture range: every coupling that robots dock by themselves takes a robot arriving
 1 mm off (lateral and vertical, both ways) or turned 3 deg (about both transverse axes, both ways)
-and guides it in (criterion: cubot_cad.capture); without the lead-ins the same check fails."""
+and guides it in (criterion: cubot_cad.checks.capture); without the lead-ins the same check fails."""
 
 from __future__ import annotations
 
 import pytest
 
-from cubot_cad.capture import (
+from cubot_cad.checks.capture import (
     MAX_GIVE_PER_STEP,
     REQUIRED_ANGLE_DEG,
     REQUIRED_OFFSET_MM,
@@ -14,7 +14,7 @@ from cubot_cad.capture import (
     geometry,
     measure,
 )
-from cubot_cad.docking import PAIRS
+from cubot_cad.checks.docking import PAIRS
 
 DOCKED = tuple(p for p in PAIRS if p != "platform-bolt")  # the platform's lap joint is bolted by hand
 
@@ -22,7 +22,7 @@ DOCKED = tuple(p for p in PAIRS if p != "platform-bolt")  # the platform's lap j
 @pytest.fixture(scope="module")
 def captures(robots, pairs):
     """Pass/fail at the required misalignment (the ladder's rungs up to 1 mm / 3 deg) for every pair."""
-    from cubot_cad.docking import ROBOT_OF_PAIR
+    from cubot_cad.checks.docking import ROBOT_OF_PAIR
 
     return {n: measure(robots[ROBOT_OF_PAIR[n]], n, pairs[n], full_ladder=False) for n in DOCKED}
 
@@ -47,9 +47,9 @@ def test_the_platform_joint_has_no_capture_range(robots, pairs):
 def _no_lead_in(name):
     from dataclasses import replace
 
-    from cubot_cad.cubot import CuBot
-    from cubot_cad.docking import dock_robot
-    from cubot_cad.registry import make_robot
+    from cubot_cad.checks.docking import dock_robot
+    from cubot_cad.robots.cubot import CuBot
+    from cubot_cad.robots.registry import make_robot
 
     base = make_robot("cubot", 0.2)
     if name == "cubot-front-rear":
@@ -83,7 +83,7 @@ def test_a_misalignment_within_the_clearance_needs_no_lead_in(pairs):
 
 def test_lead_in_sizes_follow_the_estimate():
     """clearance + pin chamfer + countersink >= 1 mm for the pins, clearance + two chamfers for the key."""
-    from cubot_cad.connectors import FrontRearSpec, TopTwistSpec
+    from cubot_cad.couplings.connectors import FrontRearSpec, TopTwistSpec
 
     assert FrontRearSpec().capture_estimate_mm >= REQUIRED_OFFSET_MM + 0.2
     assert TopTwistSpec().capture_estimate_mm >= REQUIRED_OFFSET_MM + 0.2

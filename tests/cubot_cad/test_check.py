@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from cubot_cad.check import check_file, fits_bed, slicer_path, thinnest_wall_mm
+from cubot_cad.checks.check import check_file, fits_bed, slicer_path, thinnest_wall_mm
 
 
 def _box_stl(path, outer, wall=None):
@@ -60,7 +60,7 @@ def test_parts_slice_with_prusa_slicer(export_dir, require_tool):
     25 % infill, no supports; the grooved pin: 100 %), and the totals add quantities up."""
     import json
 
-    from cubot_cad.check import slicing_totals
+    from cubot_cad.checks.check import slicing_totals
 
     require_tool(slicer_path(), "prusa-slicer")
     man = json.loads((export_dir / "manifest.json").read_text())

@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from cubot_cad.docking import GAP_TOLERANCE_MM, INTERFERENCE_LIMIT_MM3, PAIRS
+from cubot_cad.checks.docking import GAP_TOLERANCE_MM, INTERFERENCE_LIMIT_MM3, PAIRS
 from cubot_cad.errors import InputError
 from cubot_cad.part import (
     LENGTH_TOL_MM,
@@ -16,7 +16,7 @@ from cubot_cad.part import (
     MIN_WALL_MM,
     check_clearance,
 )
-from cubot_cad.registry import ROBOT_NAMES
+from cubot_cad.robots.registry import ROBOT_NAMES
 
 ENDS = (MIN_CLEARANCE_MM, MAX_CLEARANCE_MM)
 #: Every 0.01 mm of the range. 0.4 is the value a float comparison used to refuse
@@ -53,7 +53,7 @@ def test_values_outside_the_range_are_refused_naming_the_value(value):
 def test_every_robot_accepts_every_clearance_of_the_range(name):
     """Every dimension check passes at every 0.01 mm of the range (no float trap, no fixed
     dimension that the clearance outgrows)."""
-    from cubot_cad.registry import _make_robot
+    from cubot_cad.robots.registry import _make_robot
 
     for c in GRID:
         _make_robot.__wrapped__(name, c)  # uncached: a fresh validation at every value
@@ -61,7 +61,7 @@ def test_every_robot_accepts_every_clearance_of_the_range(name):
 
 @pytest.mark.parametrize("c", (MIN_CLEARANCE_MM, 0.4, MAX_CLEARANCE_MM))
 def test_every_part_of_every_robot_builds_at_the_ends_of_the_range_and_at_0_4(c):
-    from cubot_cad.registry import make_robot
+    from cubot_cad.robots.registry import make_robot
 
     for name in ROBOT_NAMES:
         for part, _ in make_robot(name, c).printable_parts():
@@ -75,7 +75,12 @@ def test_pin_head_shoulder_and_locking_wall_keep_their_size_as_the_clearance_gro
     Measured on the solids: the head overlaps the hole by the same 1.05 mm shoulder and the
     plate keeps a 1 mm wall in front of the counterbore at every clearance; the head has
     exactly the clearance as axial play."""
-    from cubot_cad.connectors import FrontRearSpec, GroovedPin, PinIrPlate, PinLockingPlate
+    from cubot_cad.couplings.connectors import (
+        FrontRearSpec,
+        GroovedPin,
+        PinIrPlate,
+        PinLockingPlate,
+    )
     from cubot_cad.shapes import location, tight_bbox
 
     s = FrontRearSpec(clearance_mm=c)
@@ -99,7 +104,7 @@ def test_pin_head_shoulder_and_locking_wall_keep_their_size_as_the_clearance_gro
 
 @pytest.fixture(scope="module")
 def range_pairs():
-    from cubot_cad.docking import dock
+    from cubot_cad.checks.docking import dock
 
     return {c: {name: dock(name, c) for name in PAIRS} for c in ENDS}
 
@@ -117,7 +122,7 @@ def test_docked_pairs_keep_their_designed_gap_without_interference_across_the_ra
 
 @pytest.mark.parametrize("c", ENDS)
 def test_every_robot_exports_at_the_ends_of_the_range(range_pairs, tmp_path, c):
-    from cubot_cad.export import export_robots
+    from cubot_cad.outputs.export import export_robots
     from cubot_cad.properties import RobotPropertiesFile
 
     res = export_robots(ROBOT_NAMES, tmp_path / "out", ("stl",), "abs", c, pairs=list(range_pairs[c].values()))
@@ -148,8 +153,8 @@ def test_the_cli_exports_cubot_and_cube_robot_at_0_4(cli, tmp_path):
 def test_a_robot_that_cannot_take_a_clearance_names_the_clearance(monkeypatch):
     """Should a robot ever not build at an accepted clearance, the error names the value the user
     set (--clearance-mm), not a connector dimension the command line cannot reach (head_mm)."""
-    import cubot_cad.connectors as connectors
-    from cubot_cad.registry import make_robot
+    import cubot_cad.couplings.connectors as connectors
+    from cubot_cad.robots.registry import make_robot
 
     monkeypatch.setattr(connectors, "MIN_LATCH_OVERLAP_MM", 0.5)  # a stricter latch: fails above 0.3 mm
     with pytest.raises(InputError) as exc:

@@ -12,14 +12,14 @@ LIMIT_MM3 = 1e-3
 
 
 def _solids(robot):
-    from cubot_cad.docking import to_manifold
+    from cubot_cad.checks.docking import to_manifold
 
     return [(f"{c.key}[{i}]", to_manifold(s)) for c in robot.components() for i, s in enumerate(c.solids())]
 
 
 @pytest.mark.parametrize("name", ["cubot", "octbot", "cube-robot", "platform"])
 def test_stand_ins_overlap_nothing(robots, name):
-    from cubot_cad.docking import intersection_volume, manifold_of, to_manifold
+    from cubot_cad.checks.docking import intersection_volume, manifold_of, to_manifold
 
     r = robots[name]
     comps = _solids(r)
@@ -37,7 +37,7 @@ def test_the_check_sees_an_overlap(robots):
     motors in the wheels."""
     from dataclasses import replace
 
-    from cubot_cad.docking import intersection_volume, to_manifold
+    from cubot_cad.checks.docking import intersection_volume, to_manifold
 
     r = robots["cubot"]
     comps = {c.key: c for c in r.components()}

@@ -14,8 +14,8 @@ RECORD = json.loads((Path(__file__).parent / "data" / "volumes_before_connector_
 
 
 def _parts(clearance):
-    from cubot_cad.deck import pier_parts
-    from cubot_cad.registry import ROBOT_NAMES, make_robot
+    from cubot_cad.piers.deck import pier_parts
+    from cubot_cad.robots.registry import ROBOT_NAMES, make_robot
 
     out = {}
     for name in ROBOT_NAMES:
@@ -40,7 +40,7 @@ def test_every_exported_part_keeps_its_volume(c):
 
 
 def test_the_plates_are_one_class_with_a_table_of_variants(robots):
-    from cubot_cad.connectors import (
+    from cubot_cad.couplings.connectors import (
         LATCH_SET_PLATES,
         PIN_SET_PLATES,
         PLATES,
@@ -59,7 +59,7 @@ def test_the_plates_are_one_class_with_a_table_of_variants(robots):
 
 
 def test_a_plate_kind_not_in_the_table_is_refused():
-    from cubot_cad.connectors import BlockPlate
+    from cubot_cad.couplings.connectors import BlockPlate
     from cubot_cad.errors import InputError
 
     with pytest.raises(InputError, match="BlockPlate.kind 'pinset_z'"):
@@ -69,8 +69,8 @@ def test_a_plate_kind_not_in_the_table_is_refused():
 def test_the_screw_holes_come_from_the_fastener_table(monkeypatch):
     import dataclasses
 
-    from cubot_cad import fasteners
-    from cubot_cad.connectors import PLATES, BlockPlate, FrontRearSpec
+    from cubot_cad.couplings.connectors import PLATES, BlockPlate, FrontRearSpec
+    from cubot_cad.hardware import fasteners
 
     def radii(kind):
         return sorted({round(e.radius(), 4) for e in BlockPlate(kind=kind, spec=FrontRearSpec()).solid.Edges()

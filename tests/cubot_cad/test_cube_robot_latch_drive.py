@@ -10,8 +10,8 @@ import math
 
 import pytest
 
-from cubot_cad.docking import intersection_volume as _iv
-from cubot_cad.docking import to_manifold as _m
+from cubot_cad.checks.docking import intersection_volume as _iv
+from cubot_cad.checks.docking import to_manifold as _m
 
 #: A stand-in "touches nothing" below this intersection volume (mm^3).
 FREE_MM3 = 1e-3
@@ -19,7 +19,7 @@ FREE_MM3 = 1e-3
 
 @pytest.fixture(scope="module")
 def robot():
-    from cubot_cad.cube_robot import CubeRobot
+    from cubot_cad.robots.cube_robot import CubeRobot
 
     return CubeRobot()
 
@@ -40,8 +40,8 @@ def _blade_axes(robot):
 
 
 def test_four_table_servos_three_on_their_blades_axes_one_geared_beside_it(robot):
-    from cubot_cad.latch_drive import COUPLER_GAP_MM
-    from cubot_cad.servos import servo
+    from cubot_cad.couplings.latch_drive import COUPLER_GAP_MM
+    from cubot_cad.hardware.servos import servo
 
     sv = servo("SG90")
     comps = _comps(robot)
@@ -86,8 +86,8 @@ def test_the_gear_pair_meshes_on_the_blade_and_the_servo_axes(robot):
     the two stand-ins touch nothing and overlap once moved 0.1 mm towards each other; the servo's horn
     fits between its gear and its face; the gears' tip circles clear every nut and screw end of the
     latch blocks."""
-    from cubot_cad.gears import mesh_centre_distance_mm
-    from cubot_cad.latch_drive import COUPLER_GAP_MM
+    from cubot_cad.couplings.latch_drive import COUPLER_GAP_MM
+    from cubot_cad.hardware.gears import mesh_centre_distance_mm
 
     comps = _comps(robot)
     bg, sg = comps["latch_gear_blade"], comps["latch_gear_servo"]
@@ -138,7 +138,7 @@ def test_the_tabs_rest_on_their_frames_and_the_cases_pass_their_windows(robot, c
 
 def test_the_frames_tap_holes_are_under_the_tab_holes(robot):
     """Each servo's two tab holes line up with two empty tap holes in its frame, with frame round them."""
-    from cubot_cad.fasteners import tap_hole_mm
+    from cubot_cad.hardware.fasteners import tap_hole_mm
     from cubot_cad.shapes import X, Z, cyl, rotated, yaw_point
 
     spec, cub = robot.latch_spec, robot.cuboid
@@ -163,7 +163,7 @@ def test_the_frames_tap_holes_are_under_the_tab_holes(robot):
 
 
 def test_the_bom_names_servos_gears_couplers_shafts_and_screws(robot):
-    from cubot_cad.bom import bom_rows
+    from cubot_cad.outputs.bom import bom_rows
 
     rows = {r["item"]: r for r in bom_rows(robot, 1040.0)}
     assert rows["latch_servo"]["quantity"] == 2 and rows["latch_servo_left"]["quantity"] == 2
@@ -179,7 +179,7 @@ def test_the_bom_names_servos_gears_couplers_shafts_and_screws(robot):
 
 
 def test_the_servos_and_gears_are_in_the_mass(robot):
-    from cubot_cad.gears import gear
+    from cubot_cad.hardware.gears import gear
 
     comps = _comps(robot)
     keys = ("latch_servo", "latch_servo_left", "latch_gear_blade", "latch_gear_servo")
@@ -196,7 +196,7 @@ def test_other_block_offsets_take_the_stock_pair_that_fits(offset, teeth):
     cuboid)."""
     import itertools
 
-    from cubot_cad.cube_robot import CubeRobot
+    from cubot_cad.robots.cube_robot import CubeRobot
 
     r = CubeRobot(block_offset_mm=offset)
     assert r.latch_spec.gears[0].teeth == teeth
@@ -213,9 +213,9 @@ def test_other_block_offsets_take_the_stock_pair_that_fits(offset, teeth):
 def test_layouts_with_no_room_are_refused_naming_the_offset_and_the_servo():
     """Blocks 18 mm off the face centres: the geared servo would meet the other left-face servo's frame;
     the taller MG90S at 22 mm: the rear servo's case reaches the geared servo's frame."""
-    from cubot_cad.cube_robot import CubeRobot
+    from cubot_cad.couplings.latch_drive import LatchDriveSpec
     from cubot_cad.errors import InputError
-    from cubot_cad.latch_drive import LatchDriveSpec
+    from cubot_cad.robots.cube_robot import CubeRobot
 
     with pytest.raises(InputError, match="block_offset_mm 18: the SG90 latch servos .* 20/22/24/26 mm"):
         CubeRobot(block_offset_mm=18.0)

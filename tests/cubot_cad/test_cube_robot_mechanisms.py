@@ -42,8 +42,8 @@ def _front_wheels(r, deg):
 # --- A1: the steered wheels clear the block at full lock, inside the envelope ---------------------------
 
 def test_steered_wheels_turn_through_full_lock_clear_of_the_block_and_inside_the_cube(cube):
-    from cubot_cad.cube_robot import WHEEL_GAP_MM
-    from cubot_cad.docking import intersection_volume, to_manifold
+    from cubot_cad.checks.docking import intersection_volume, to_manifold
+    from cubot_cad.robots.cube_robot import WHEEL_GAP_MM
     from cubot_cad.shapes import tight_bbox
 
     block = cube.wheel_block
@@ -83,7 +83,7 @@ def test_the_sweep_sees_a_well_too_small_for_the_lock(cube):
     ({"steer_deg": 95.0}, "steer_deg"),
 ])
 def test_a_layout_the_turned_wheels_cannot_fit_is_refused_naming_the_value(kw, name):
-    from cubot_cad.cube_robot import CubeRobot
+    from cubot_cad.robots.cube_robot import CubeRobot
 
     with pytest.raises(InputError) as exc:
         CubeRobot(**kw)
@@ -91,7 +91,7 @@ def test_a_layout_the_turned_wheels_cannot_fit_is_refused_naming_the_value(kw, n
 
 
 def test_the_track_follows_the_lock():
-    from cubot_cad.cube_robot import CubeRobot
+    from cubot_cad.robots.cube_robot import CubeRobot
 
     assert CubeRobot().track_half_mm == pytest.approx(42.270, abs=1e-3)
     assert CubeRobot(steer_deg=20.0).track_half_mm > CubeRobot().track_half_mm
@@ -127,7 +127,7 @@ def test_tier_screws_go_through_the_upper_tier_into_inserts_in_bosses(cube):
     """Under each clearance hole of the upper tier the lower one has an open insert hole with a full ring
     of material round it; the screw (from the BOM) reaches into the insert and not past it, and its head
     sits free on the upper floor."""
-    from cubot_cad.fasteners import clearance_hole_mm, thread
+    from cubot_cad.hardware.fasteners import clearance_hole_mm, thread
     from cubot_cad.shapes import Z, cyl
 
     others = [p.shape for p in cube.placed]
@@ -202,7 +202,7 @@ def test_the_wheel_block_and_the_cuboids_bosses_print_without_support(cube):
 
 
 def test_the_bom_lists_the_tier_screws_and_inserts(cube):
-    from cubot_cad.bom import bom_rows
+    from cubot_cad.outputs.bom import bom_rows
 
     rows = {x["item"]: x for x in bom_rows(cube, 1040.0) if x["category"] == "fastener"}
     assert int(rows["M3 insert"]["quantity"]) == 8

@@ -7,7 +7,7 @@ import dataclasses
 
 import pytest
 
-from cubot_cad.docking import GAP_TOLERANCE_MM, INTERFERENCE_LIMIT_MM3, PAIRS
+from cubot_cad.checks.docking import GAP_TOLERANCE_MM, INTERFERENCE_LIMIT_MM3, PAIRS
 
 
 @pytest.mark.parametrize("name", PAIRS)
@@ -22,7 +22,7 @@ def test_docked_pair_interference_is_at_most_one_cubic_mm(pairs, name):
 def test_a_pair_that_interferes_or_misses_its_designed_gap_fails_naming_it(pairs):
     """What `--clearance-mm 0` produced (CuBot front-rear 5.06 mm apart, 12.1 mm^3 of overlap) is
     not ok, and require_docked (which guards the export) says so in one line."""
-    from cubot_cad.docking import require_docked
+    from cubot_cad.checks.docking import require_docked
     from cubot_cad.errors import InputError
 
     good = pairs["cubot-front-rear"]
@@ -40,10 +40,10 @@ def test_a_pair_that_interferes_or_misses_its_designed_gap_fails_naming_it(pairs
 
 
 def test_designed_gaps_are_the_robots_own():
-    from cubot_cad.cube_robot import CubeRobot
-    from cubot_cad.cubot import CuBot
-    from cubot_cad.docking import design_gap_mm
-    from cubot_cad.octbot import OctBot
+    from cubot_cad.checks.docking import design_gap_mm
+    from cubot_cad.robots.cube_robot import CubeRobot
+    from cubot_cad.robots.cubot import CuBot
+    from cubot_cad.robots.octbot import OctBot
 
     assert design_gap_mm(CuBot(), "cubot-front-rear") == 0.0
     assert design_gap_mm(CuBot(), "cubot-top-down") == 15.0  # stands on its wheels
@@ -69,7 +69,7 @@ def test_docked_gaps_match_the_thesis(pairs):
 def test_a_misaligned_pair_shows_interference(pairs):
     """The measurement sees real overlaps: shifting the docked rear CuBot 0.6 mm (three clearances)
     drives its pins into the hole walls."""
-    from cubot_cad.docking import dock
+    from cubot_cad.checks.docking import dock
 
     bad = dock("cubot-front-rear", 0.2, (0.0, 0.0, 0.6))
     assert bad.interference_mm3 > INTERFERENCE_LIMIT_MM3 and not bad.ok
@@ -78,8 +78,8 @@ def test_a_misaligned_pair_shows_interference(pairs):
 
 def test_cube_robot_gap_is_pin_length_minus_latch_depth():
     """Not drawn in: lengthen the pins and the measured gap grows by the same amount."""
-    from cubot_cad.cube_robot import CubeRobot
-    from cubot_cad.docking import dock_robot
+    from cubot_cad.checks.docking import dock_robot
+    from cubot_cad.robots.cube_robot import CubeRobot
 
     r = CubeRobot(pin_overrun_mm=3.0)
     assert r.fr_spec.protrusion_mm - r.fr_spec.latch_depth_mm == pytest.approx(3.0)
@@ -89,8 +89,8 @@ def test_cube_robot_gap_is_pin_length_minus_latch_depth():
 
 
 def test_octbot_gap_follows_its_parameter():
-    from cubot_cad.docking import dock_robot
-    from cubot_cad.octbot import OctBot
+    from cubot_cad.checks.docking import dock_robot
+    from cubot_cad.robots.octbot import OctBot
 
     p = dock_robot(OctBot(docked_gap_mm=55.0), "octbot-ring")
     assert p.gap_mm == pytest.approx(55.0, abs=0.05)
@@ -99,8 +99,8 @@ def test_octbot_gap_follows_its_parameter():
 
 def test_manifold_interference_agrees_with_occ(pairs, robots):
     """Cross-check one overlap with OCC booleans: a pin pushed 0.5 mm into its plate."""
-    from cubot_cad.connectors import FrontRearSpec, GroovedPin, LatchFrontPlate
-    from cubot_cad.docking import intersection_volume, to_manifold
+    from cubot_cad.checks.docking import intersection_volume, to_manifold
+    from cubot_cad.couplings.connectors import FrontRearSpec, GroovedPin, LatchFrontPlate
 
     s = FrontRearSpec()
     plate = LatchFrontPlate(spec=s).solid
@@ -113,7 +113,7 @@ def test_manifold_interference_agrees_with_occ(pairs, robots):
 
 
 def test_unknown_pair_is_an_input_error():
-    from cubot_cad.docking import dock
+    from cubot_cad.checks.docking import dock
     from cubot_cad.errors import InputError
 
     with pytest.raises(InputError, match="no-such-pair"):

@@ -15,7 +15,7 @@ COMMITTED = REPO / "exports"
 def test_manifest_lists_every_printable_part_with_its_facts(export_dir, robots):
     m = json.loads((export_dir / "manifest.json").read_text())
     assert m["material"] == "ABS" and m["density_kg_m3"] == 1040.0 and m["clearance_mm"] == 0.2
-    from cubot_cad.deck import pier_parts
+    from cubot_cad.piers.deck import pier_parts
 
     expected = {(name, part.name): qty for name, r in robots.items() for part, qty in r.printable_parts()}
     expected.update({(name, part.name): qty for name, r in robots.items() for part, qty in pier_parts(r)})
@@ -81,7 +81,7 @@ def test_step_assembly_round_trips(export_dir, robots):
 
 
 def test_pla_and_3mf_for_one_robot(tmp_path):
-    from cubot_cad.export import export_robots
+    from cubot_cad.outputs.export import export_robots
 
     res = export_robots(["platform"], tmp_path, ("stl", "3mf"), "pla")
     (part,) = res.parts
@@ -105,7 +105,7 @@ def test_corrupt_manifest_is_an_input_error(tmp_path):
 def test_every_robot_has_a_bill_of_materials(export_dir, robots):
     import csv
 
-    from cubot_cad.fasteners import THREADS
+    from cubot_cad.hardware.fasteners import THREADS
 
     m = json.loads((export_dir / "manifest.json").read_text())
     for name, r in robots.items():

@@ -8,7 +8,7 @@ from collections import Counter
 
 import pytest
 
-from cubot_cad import fasteners
+from cubot_cad.hardware import fasteners
 
 
 def test_the_table_is_consistent_with_its_standards():
@@ -44,10 +44,10 @@ def _circles(robot) -> dict[str, Counter]:
 
 
 def _fresh_robots():
-    from cubot_cad.cube_robot import CubeRobot
-    from cubot_cad.cubot import CuBot
-    from cubot_cad.octbot import OctBot
-    from cubot_cad.platform import TestPlatform
+    from cubot_cad.robots.cube_robot import CubeRobot
+    from cubot_cad.robots.cubot import CuBot
+    from cubot_cad.robots.octbot import OctBot
+    from cubot_cad.robots.platform import TestPlatform
 
     return [CuBot(), OctBot(), CubeRobot(), TestPlatform()]
 

@@ -42,7 +42,7 @@ def _has(cols: np.ndarray, rgb) -> bool:
 
 @pytest.mark.parametrize("name", ROBOTS)
 def test_robot_glb_loads_back_at_the_robot_size(export_dir, robots, name):
-    from cubot_cad.gltf import cad_bounds_mm
+    from cubot_cad.outputs.gltf import cad_bounds_mm
 
     scene = _load(export_dir / f"{name}.glb")
     r = robots[name]
@@ -58,7 +58,7 @@ def test_robot_glb_loads_back_at_the_robot_size(export_dir, robots, name):
 
 
 def test_connectors_have_their_own_colours(export_dir):
-    from cubot_cad.robot import ROLE_COLOURS
+    from cubot_cad.robots.base import ROLE_COLOURS
 
     cols = _colours(_load(export_dir / "cubot.glb"))
     for role in ("body", "pin", "blade", "rail", "cross_key"):
@@ -67,7 +67,7 @@ def test_connectors_have_their_own_colours(export_dir):
 
 
 def test_bridge_is_five_docked_cubots_over_a_void(export_dir, robots, pairs):
-    from cubot_cad.gltf import (
+    from cubot_cad.outputs.gltf import (
         BRIDGE_ROBOTS,
         SLAB_COLOUR,
         SLAB_THICKNESS_MM,

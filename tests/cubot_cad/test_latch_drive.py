@@ -12,20 +12,20 @@ FREE_MM3 = 1e-3
 
 
 def _m(shape):
-    from cubot_cad.docking import to_manifold
+    from cubot_cad.checks.docking import to_manifold
 
     return to_manifold(shape)
 
 
 def _iv(a, b) -> float:
-    from cubot_cad.docking import intersection_volume
+    from cubot_cad.checks.docking import intersection_volume
 
     return intersection_volume(a, b)
 
 
 @pytest.fixture(scope="module")
 def cubot():
-    from cubot_cad.cubot import CuBot
+    from cubot_cad.robots.cubot import CuBot
 
     return CuBot()
 
@@ -40,8 +40,8 @@ def _servos(cubot):
 
 
 def test_each_latch_servo_is_the_tables_row_on_its_blades_axis(cubot):
-    from cubot_cad.latch_drive import COUPLER_GAP_MM, SHAFT_INTO_COUPLER_MM
-    from cubot_cad.servos import servo
+    from cubot_cad.couplings.latch_drive import COUPLER_GAP_MM, SHAFT_INTO_COUPLER_MM
+    from cubot_cad.hardware.servos import servo
 
     comp = _servos(cubot)
     sv = servo("SG90")
@@ -78,7 +78,7 @@ def test_the_tabs_rest_on_the_frame_and_the_case_passes_its_window(cubot, body):
 
 
 def test_the_tab_screws_find_tap_holes_and_the_coupler_has_room(cubot):
-    from cubot_cad.fasteners import tap_hole_mm
+    from cubot_cad.hardware.fasteners import tap_hole_mm
     from cubot_cad.shapes import X, cyl
 
     spec = cubot.latch_spec
@@ -102,7 +102,7 @@ def test_the_tab_screws_find_tap_holes_and_the_coupler_has_room(cubot):
 
 
 def test_the_bom_names_the_servo_the_coupler_and_the_screws(cubot):
-    from cubot_cad.bom import bom_rows
+    from cubot_cad.outputs.bom import bom_rows
 
     rows = bom_rows(cubot, 1040.0)
     servo_row = next(r for r in rows if r["item"] == "latch_servo")
@@ -115,9 +115,9 @@ def test_the_bom_names_the_servo_the_coupler_and_the_screws(cubot):
 
 
 def test_another_servo_row_moves_the_mass_and_an_unknown_one_is_refused():
-    from cubot_cad.cubot import CuBot
+    from cubot_cad.couplings.latch_drive import LatchDriveSpec
     from cubot_cad.errors import InputError
-    from cubot_cad.latch_drive import LatchDriveSpec
+    from cubot_cad.robots.cubot import CuBot
 
     mg = CuBot(latch=LatchDriveSpec(servo="MG90S"))
     comp = next(c for c in mg.components() if c.key == "latch_servo")
@@ -132,7 +132,7 @@ def test_higher_blocks_hang_the_case_down_and_it_still_fits():
     """With the blocks 8 mm higher the case hangs down from the axle (it then clears the drive motors
     and the twist horn): its tab holes below/above swap, the tabs rest on the frame, and no stand-in
     overlaps a printed part or another stand-in."""
-    from cubot_cad.cubot import CuBot
+    from cubot_cad.robots.cubot import CuBot
 
     low, high = CuBot(), CuBot(block_z_mm=38.0)
     assert low.latch_spec.case_up and not high.latch_spec.case_up

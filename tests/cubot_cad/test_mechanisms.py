@@ -17,7 +17,7 @@ def _vol(a, b) -> float:
 def test_cover_screws_go_into_inserts_in_corner_bosses(robots):
     """Each cover screw hole lies over a boss: under it the body holds the insert hole and a full
     ring of material around it (it was 0 mm^3: the screws sat over the hollow)."""
-    from cubot_cad.fasteners import thread
+    from cubot_cad.hardware.fasteners import thread
     from cubot_cad.shapes import Z, cyl
 
     r = robots["cubot"]
@@ -64,7 +64,7 @@ def test_corner_bosses_print_without_support(robots):
 
 @pytest.mark.parametrize("robot", ["cubot", "octbot"])
 def test_caster_ball_turns_freely_and_cannot_drop_out(robots, robot):
-    from cubot_cad.connectors import CasterSeat
+    from cubot_cad.couplings.connectors import CasterSeat
     from cubot_cad.shapes import sphere
 
     r = robots[robot]
@@ -95,7 +95,7 @@ def _latch_frame_pins(spec, pull_mm=0.0):
     ``pull_mm``."""
     import cadquery as cq
 
-    from cubot_cad.connectors import GroovedPin
+    from cubot_cad.couplings.connectors import GroovedPin
 
     pin = GroovedPin(spec=spec).solid.rotate(cq.Vector(0, 0, 0), cq.Vector(0, 0, 1), 180)
     return [pin.translate((pull_mm + spec.design_gap_mm, -y, z)) for y, z in spec.pin_positions()]
@@ -105,7 +105,7 @@ def _latch_frame_pins(spec, pull_mm=0.0):
 def test_the_blade_turns_on_its_d_shaft_and_holds_the_pins_only_when_locked(robots, robot):
     import cadquery as cq
 
-    from cubot_cad.connectors import LatchRearPlate, LatchSeparationPlate, TriangularBlade
+    from cubot_cad.couplings.connectors import LatchRearPlate, LatchSeparationPlate, TriangularBlade
 
     spec = robots[robot].fr_spec
     c = spec.clearance_mm

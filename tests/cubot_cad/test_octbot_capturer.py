@@ -17,8 +17,8 @@ def test_housing_screws_go_through_the_front_wall_into_inserts_in_the_housing(c)
     """Each front-wall hole has an open insert hole behind it in the housing's back face, with a full
     ring of material round it, and the ring plate's holes sit on the rear wall's at every clearance
     (one home for the points: before, the wall's were a literal 12 mm and the ring's moved with it)."""
-    from cubot_cad.fasteners import clearance_hole_mm, thread
-    from cubot_cad.octbot import OctBot
+    from cubot_cad.hardware.fasteners import clearance_hole_mm, thread
+    from cubot_cad.robots.octbot import OctBot
     from cubot_cad.shapes import X, cyl
 
     r = OctBot(clearance_mm=c)
@@ -54,8 +54,8 @@ MIN_RING_MM = 0.8
 
 
 def test_housing_screw_heads_clear_the_stand_ins_inside_the_body(robots):
-    from cubot_cad.docking import intersection_volume, to_manifold
-    from cubot_cad.fasteners import thread
+    from cubot_cad.checks.docking import intersection_volume, to_manifold
+    from cubot_cad.hardware.fasteners import thread
     from cubot_cad.shapes import cyl
 
     r = robots["octbot"]
@@ -77,7 +77,7 @@ def test_the_housing_is_one_body_without_closed_cavities(robots):
 
 def _slide_free(fixed, moving, direction, distance, steps=12) -> list[float]:
     """Interference (mm^3) of ``moving`` with ``fixed`` at ``steps`` + 1 points along a straight path."""
-    from cubot_cad.docking import intersection_volume
+    from cubot_cad.checks.docking import intersection_volume
 
     return [intersection_volume(fixed, moving.translate(tuple(distance * k / steps * d for d in direction)))
             for k in range(steps + 1)]
@@ -87,7 +87,7 @@ def test_the_worm_motor_slides_into_its_pocket_from_the_side_and_the_disc_drops_
     """Assembly paths: the N20 worm gearmotor with its worm goes in along -y through the pocket's open
     side, the cam disc straight down into its slot, each without touching the housing; the motor is a
     named stand-in with its mass, in the pocket with the clearance all round."""
-    from cubot_cad.docking import manifold_of, to_manifold, union
+    from cubot_cad.checks.docking import manifold_of, to_manifold, union
 
     r = robots["octbot"]
     housing = next(p for p in r.placed if p.role == "housing")
@@ -107,7 +107,7 @@ def test_the_worm_motor_slides_into_its_pocket_from_the_side_and_the_disc_drops_
     finger = manifold_of(next(p for p in r.placed if p.role == "finger"))
     assert max(_slide_free(hm, finger, (1.0, 0.0, 0.0), 15.0)) < 1e-3
     # and the pocket holds the motor: pushed 0.5 mm up, down, forward or back it meets the housing
-    from cubot_cad.docking import intersection_volume
+    from cubot_cad.checks.docking import intersection_volume
 
     m = to_manifold(motor.solids()[0])
     for d in ((0, 0, 0.5), (0, 0, -0.5), (0.5, 0, 0), (-0.5, 0, 0)):

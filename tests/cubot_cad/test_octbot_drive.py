@@ -18,19 +18,19 @@ STEPS = 9
 
 
 def _m(item):
-    from cubot_cad.docking import manifold_of
+    from cubot_cad.checks.docking import manifold_of
 
     return manifold_of(item)
 
 
 def _iv(a, b) -> float:
-    from cubot_cad.docking import intersection_volume
+    from cubot_cad.checks.docking import intersection_volume
 
     return intersection_volume(a, b)
 
 
 def _robot(c):
-    from cubot_cad.octbot import OctBot
+    from cubot_cad.robots.octbot import OctBot
 
     return OctBot(clearance_mm=c)
 
@@ -39,7 +39,7 @@ def _partner_ring(r):
     """The docked neighbour's ring in this robot's frame: its rear face the docked gap as the docking
     model measures it (40.005 mm: the ring's tube stands 0.005 mm proud of its lip) ahead of the front
     face."""
-    from cubot_cad.docking import dock_robot
+    from cubot_cad.checks.docking import dock_robot
 
     gap = dock_robot(r, "octbot-ring").gap_mm
     assert gap == pytest.approx(r.docked_gap_mm, abs=0.05)
@@ -48,7 +48,7 @@ def _partner_ring(r):
 
 
 def _stand_ins(r):
-    from cubot_cad.docking import to_manifold
+    from cubot_cad.checks.docking import to_manifold
 
     return {c.key: to_manifold(s) for c in r.components() if c.key in ("worm_motor", "worm") for s in c.solids()}
 
@@ -165,7 +165,7 @@ def test_spread_the_hooks_hold_the_ring_retracted_they_let_it_go():
 
 
 def test_the_docked_pair_still_docks_at_its_gap():
-    from cubot_cad.docking import dock_robot
+    from cubot_cad.checks.docking import dock_robot
 
     r = _robot(0.2)
     p = dock_robot(r, "octbot-ring")

@@ -14,19 +14,19 @@ HOLD_MM3 = 0.05
 
 
 def _m(item):
-    from cubot_cad.docking import manifold_of
+    from cubot_cad.checks.docking import manifold_of
 
     return manifold_of(item)
 
 
 def _iv(a, b) -> float:
-    from cubot_cad.docking import intersection_volume
+    from cubot_cad.checks.docking import intersection_volume
 
     return intersection_volume(a, b)
 
 
 def _robot(c=0.2):
-    from cubot_cad.octbot import OctBot
+    from cubot_cad.robots.octbot import OctBot
 
     return OctBot(clearance_mm=c)
 
@@ -93,7 +93,7 @@ def test_the_retainer_goes_on_over_the_hooks(fingers_open):
 
 
 def test_the_retainer_screws_line_up_with_the_housing_inserts_and_are_in_the_bom():
-    from cubot_cad.fasteners import countersunk_head_mm, thread
+    from cubot_cad.hardware.fasteners import countersunk_head_mm, thread
 
     r = _robot(0.2)
     rs, hs = r.ring_spec, r.housing
@@ -121,7 +121,7 @@ def test_the_retainer_screws_line_up_with_the_housing_inserts_and_are_in_the_bom
 
 def test_retainer_dimensions_that_cannot_hold_are_refused():
     from cubot_cad.errors import InputError
-    from cubot_cad.octbot import RingSpec
+    from cubot_cad.robots.octbot import RingSpec
 
     with pytest.raises(InputError, match="shoulder_mm"):
         RingSpec(shoulder_mm=0.5, clearance_mm=0.2)
@@ -129,7 +129,7 @@ def test_retainer_dimensions_that_cannot_hold_are_refused():
         RingSpec(retainer_mm=1.5)
     with pytest.raises(InputError, match="retainer_screw_radius_mm"):  # heads into the finger slots
         RingSpec(retainer_screw_radius_mm=4.0)
-    from cubot_cad.octbot import OctBot
+    from cubot_cad.robots.octbot import OctBot
 
     with pytest.raises(InputError, match="retainer_screw_radius_mm"):  # inserts into the centre pocket
         OctBot(ring=RingSpec(retainer_screw_radius_mm=6.0))

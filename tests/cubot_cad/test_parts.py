@@ -49,7 +49,7 @@ def _bbox(shape):
 
 @pytest.mark.parametrize("c", (0.1, 0.2, 0.5))
 def test_grooved_pin_volume_is_the_analytic_sum_of_its_cylinders(c):
-    from cubot_cad.connectors import FrontRearSpec, GroovedPin
+    from cubot_cad.couplings.connectors import FrontRearSpec, GroovedPin
 
     s = FrontRearSpec(clearance_mm=c)
     pin = GroovedPin(spec=s)
@@ -75,10 +75,10 @@ def test_grooved_pin_volume_is_the_analytic_sum_of_its_cylinders(c):
 
 
 def test_platform_volume_is_plate_plus_tab_minus_recess_and_holes():
-    from cubot_cad.platform import PlatformPlate
+    from cubot_cad.robots.platform import PlatformPlate
 
     p = PlatformPlate()
-    from cubot_cad.fasteners import clearance_hole_mm
+    from cubot_cad.hardware.fasteners import clearance_hole_mm
 
     c, h = p.clearance_mm, p.thickness_mm / 2
     r = clearance_hole_mm("M3") / 2  # ISO 273 medium, from the fastener table
@@ -91,7 +91,7 @@ def test_platform_volume_is_plate_plus_tab_minus_recess_and_holes():
 
 
 def test_plate_volume_tracks_its_holes_and_clearance():
-    from cubot_cad.connectors import FrontRearSpec, LatchFrontPlate
+    from cubot_cad.couplings.connectors import FrontRearSpec, LatchFrontPlate
 
     def vol(c):
         s = FrontRearSpec(clearance_mm=c)
@@ -118,34 +118,34 @@ def test_every_printable_part_lies_flat_on_the_bed(robots):
 
 
 @pytest.mark.parametrize("factory, name", [
-    (lambda: __import__("cubot_cad.cubot", fromlist=["x"]).CuBot(length_mm=120), "length_mm"),
-    (lambda: __import__("cubot_cad.cubot", fromlist=["x"]).CuBot(wall_mm=0.6), "wall_mm"),
-    (lambda: __import__("cubot_cad.cubot", fromlist=["x"]).CuBot(clearance_mm=-0.1), "clearance_mm"),
-    (lambda: __import__("cubot_cad.cubot", fromlist=["x"]).CuBot(block_y_mm=35), "block_y_mm"),
-    (lambda: __import__("cubot_cad.cubot", fromlist=["x"]).CuBot(wheel_base_mm=90), "wheel_base_mm"),
-    (lambda: __import__("cubot_cad.cubot", fromlist=["x"]).CuBot(caster_ball_mm=30), "30 mm ball"),
-    (lambda: __import__("cubot_cad.connectors", fromlist=["x"]).FrontRearSpec(groove_diameter_mm=5.0),
+    (lambda: __import__("cubot_cad.robots.cubot", fromlist=["x"]).CuBot(length_mm=120), "length_mm"),
+    (lambda: __import__("cubot_cad.robots.cubot", fromlist=["x"]).CuBot(wall_mm=0.6), "wall_mm"),
+    (lambda: __import__("cubot_cad.robots.cubot", fromlist=["x"]).CuBot(clearance_mm=-0.1), "clearance_mm"),
+    (lambda: __import__("cubot_cad.robots.cubot", fromlist=["x"]).CuBot(block_y_mm=35), "block_y_mm"),
+    (lambda: __import__("cubot_cad.robots.cubot", fromlist=["x"]).CuBot(wheel_base_mm=90), "wheel_base_mm"),
+    (lambda: __import__("cubot_cad.robots.cubot", fromlist=["x"]).CuBot(caster_ball_mm=30), "30 mm ball"),
+    (lambda: __import__("cubot_cad.couplings.connectors", fromlist=["x"]).FrontRearSpec(groove_diameter_mm=5.0),
      "groove_diameter_mm"),
-    (lambda: __import__("cubot_cad.connectors", fromlist=["x"]).FrontRearSpec(blade_radius_mm=14.0),
+    (lambda: __import__("cubot_cad.couplings.connectors", fromlist=["x"]).FrontRearSpec(blade_radius_mm=14.0),
      "blade_radius_mm"),
-    (lambda: __import__("cubot_cad.connectors", fromlist=["x"]).FrontRearSpec(head_shoulder_mm=0.5),
+    (lambda: __import__("cubot_cad.couplings.connectors", fromlist=["x"]).FrontRearSpec(head_shoulder_mm=0.5),
      "head_shoulder_mm"),
-    (lambda: __import__("cubot_cad.connectors", fromlist=["x"]).FrontRearSpec(head_wall_mm=0.6),
+    (lambda: __import__("cubot_cad.couplings.connectors", fromlist=["x"]).FrontRearSpec(head_wall_mm=0.6),
      "head_wall_mm"),
-    (lambda: __import__("cubot_cad.connectors", fromlist=["x"]).FrontRearSpec(pin_diameter_mm=4.2,
+    (lambda: __import__("cubot_cad.couplings.connectors", fromlist=["x"]).FrontRearSpec(pin_diameter_mm=4.2,
                                                                              clearance_mm=0.3),
      "would not hold the pin"),
-    (lambda: __import__("cubot_cad.connectors", fromlist=["x"]).FrontRearSpec(pin_protrusion_mm=5.0),
+    (lambda: __import__("cubot_cad.couplings.connectors", fromlist=["x"]).FrontRearSpec(pin_protrusion_mm=5.0),
      "pin_protrusion_mm"),
-    (lambda: __import__("cubot_cad.connectors", fromlist=["x"]).TopTwistSpec(key_protrusion_mm=14.5),
+    (lambda: __import__("cubot_cad.couplings.connectors", fromlist=["x"]).TopTwistSpec(key_protrusion_mm=14.5),
      "key_protrusion_mm"),
-    (lambda: __import__("cubot_cad.connectors", fromlist=["x"]).RailSpec(tongue_tip_mm=7.0), "tongue_tip_mm"),
-    (lambda: __import__("cubot_cad.octbot", fromlist=["x"]).OctBot(docked_gap_mm=30), "docked_gap_mm"),
-    (lambda: __import__("cubot_cad.octbot", fromlist=["x"]).OctBot(height_mm=40), "height_mm"),
-    (lambda: __import__("cubot_cad.cube_robot", fromlist=["x"]).CubeRobot(sensor_mm=60), "sensor_mm"),
-    (lambda: __import__("cubot_cad.cube_robot", fromlist=["x"]).CubeRobot(block_offset_mm=30), "block_offset_mm"),
-    (lambda: __import__("cubot_cad.platform", fromlist=["x"]).TestPlatform(thickness_mm=1.5), "thickness_mm"),
-    (lambda: __import__("cubot_cad.platform", fromlist=["x"]).TestPlatform(tab_length_mm=-3), "tab_length_mm"),
+    (lambda: __import__("cubot_cad.couplings.connectors", fromlist=["x"]).RailSpec(tongue_tip_mm=7.0), "tongue_tip_mm"),
+    (lambda: __import__("cubot_cad.robots.octbot", fromlist=["x"]).OctBot(docked_gap_mm=30), "docked_gap_mm"),
+    (lambda: __import__("cubot_cad.robots.octbot", fromlist=["x"]).OctBot(height_mm=40), "height_mm"),
+    (lambda: __import__("cubot_cad.robots.cube_robot", fromlist=["x"]).CubeRobot(sensor_mm=60), "sensor_mm"),
+    (lambda: __import__("cubot_cad.robots.cube_robot", fromlist=["x"]).CubeRobot(block_offset_mm=30), "block_offset_mm"),
+    (lambda: __import__("cubot_cad.robots.platform", fromlist=["x"]).TestPlatform(thickness_mm=1.5), "thickness_mm"),
+    (lambda: __import__("cubot_cad.robots.platform", fromlist=["x"]).TestPlatform(tab_length_mm=-3), "tab_length_mm"),
 ])
 def test_impossible_parameters_raise_input_error_naming_the_parameter(factory, name):
     with pytest.raises(InputError) as exc:
@@ -177,7 +177,7 @@ def test_exposed_heights_are_measured_on_the_wheel_and_caster_solids(robots):
     # 10 mm caster retained by a 0.3 mm undercut (mouth 0.3 mm narrower than the ball each side)
     expected = 5.0 - math.sqrt((5.0 + 0.2) ** 2 - (5.0 - 0.3) ** 2)
     assert cub.caster_exposed_mm == pytest.approx(expected, abs=1e-6) and expected == pytest.approx(2.775, abs=1e-3)
-    from cubot_cad.cubot import CuBot
+    from cubot_cad.robots.cubot import CuBot
 
     other = CuBot(wheel_exposed_mm=14.5)
     assert other.wheel_exposed_mm == pytest.approx(14.5, abs=1e-6)
@@ -185,7 +185,7 @@ def test_exposed_heights_are_measured_on_the_wheel_and_caster_solids(robots):
 
 
 def test_coupling_backlash_and_stiffness_follow_the_geometry(robots):
-    from cubot_cad.cubot import CuBot
+    from cubot_cad.robots.cubot import CuBot
 
     E = 2.2e9
     base = {c.kind: c for c in robots["cubot"].connector_properties(E)}

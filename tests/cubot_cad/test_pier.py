@@ -2,8 +2,8 @@
 with the printed deck on the top robot that the line rolls over.
 
 The column is placed by the coupling's own docked offset, the deck by its own docking on the top
-robot's collar; heights, contacts and checks are measured on the CAD (cubot_cad.pier,
-cubot_cad.deck)."""
+robot's collar; heights, contacts and checks are measured on the CAD (cubot_cad.piers.pier,
+cubot_cad.piers.deck)."""
 
 from __future__ import annotations
 
@@ -13,15 +13,15 @@ import math
 
 import pytest
 
-from cubot_cad.deck import PierDeck
-from cubot_cad.docking import GAP_TOLERANCE_MM, INTERFERENCE_LIMIT_MM3
+from cubot_cad.checks.docking import GAP_TOLERANCE_MM, INTERFERENCE_LIMIT_MM3
 from cubot_cad.errors import InputError
-from cubot_cad.pier import PIER_PAIR, PierColumn
+from cubot_cad.piers.deck import PierDeck
+from cubot_cad.piers.pier import PIER_PAIR, PierColumn
 
 
 @pytest.fixture(scope="module")
 def cubot():
-    from cubot_cad.registry import make_robot
+    from cubot_cad.robots.registry import make_robot
 
     return make_robot("cubot")
 
@@ -29,7 +29,7 @@ def cubot():
 @pytest.fixture(scope="module")
 def top_down():
     """The measured pair (docking's own cache: shared with the session's ``pairs``)."""
-    from cubot_cad.docking import dock
+    from cubot_cad.checks.docking import dock
 
     return dock(PIER_PAIR)
 
@@ -81,7 +81,7 @@ def test_k_plus_one_robots_is_exactly_one_pitch_taller(cubot, top_down, k):
 
 def test_the_height_moves_with_the_robots_body_height(column):
     """A CuBot 5 mm lower (height_mm 80) docks 5 mm lower: pitch, standing and pier heights follow."""
-    from cubot_cad.cubot import CuBot
+    from cubot_cad.robots.cubot import CuBot
 
     low = PierColumn(CuBot(height_mm=80.0), 2)  # docked here, on the new robot's own geometry
     assert low.cover_top_mm == pytest.approx(column.cover_top_mm - 5.0, abs=1e-6)
@@ -142,8 +142,8 @@ def test_the_deck_docks_on_the_collar(column, cubot):
     the key-mount face at the coupling's stance, turns square touching nothing (the cover screws'
     heads included), does not interfere with the locking key in, and its key engages: held by the
     roof when lifted square, free when lifted open, stopped by the locking key turning back."""
-    from cubot_cad.deck import TWIST_STEPS, _deck_manifolds
-    from cubot_cad.docking import _near_union, intersection_volume, manifold_of
+    from cubot_cad.checks.docking import _near_union, intersection_volume, manifold_of
+    from cubot_cad.piers.deck import TWIST_STEPS, _deck_manifolds
 
     dd = column.deck_dock
     assert dd.ok, dd.problems()
@@ -165,8 +165,8 @@ def test_the_deck_docks_on_the_collar(column, cubot):
     low = tuple(v - (0, 0, 1.0)[i] for i, v in enumerate(dd.offset_mm))
     a, b = _near_union(robot, _deck_manifolds(dd.deck, 0.0, low), [(0.0, 0.0, 0.0)])
     assert intersection_volume(a, b) > 10 * INTERFERENCE_LIMIT_MM3
-    from cubot_cad.deck import screw_head_solids
-    from cubot_cad.docking import to_manifold
+    from cubot_cad.checks.docking import to_manifold
+    from cubot_cad.piers.deck import screw_head_solids
 
     wide = dataclasses.replace(dd.deck, ring_radius_mm=62.0, ring_wall_mm=6.0, length_mm=130.0, width_mm=130.0)
     heads = [to_manifold(h) for h in screw_head_solids(cubot)]
@@ -243,7 +243,7 @@ def test_bad_deck_dimensions_are_one_line_input_errors(cubot, dims, word):
 
 
 def test_a_deck_that_does_not_fit_the_column_is_refused(cubot, top_down):
-    from cubot_cad.cubot import CuBot
+    from cubot_cad.robots.cubot import CuBot
 
     with pytest.raises(InputError, match="PierColumn.deck must be"):
         PierColumn(cubot, 2, docked=top_down, deck="yes")
@@ -260,7 +260,7 @@ def test_the_deck_prints_flat_without_support(column, tmp_path):
     import numpy as np
     import trimesh
 
-    from cubot_cad.check import check_file
+    from cubot_cad.checks.check import check_file
     from cubot_cad.mesh import mesh_of
 
     deck = column.deck_part
@@ -337,7 +337,7 @@ def test_a_bad_robot_count_is_one_line_naming_it(cubot, k):
 
 
 def test_only_a_robot_with_the_top_down_coupling_stacks():
-    from cubot_cad.registry import make_robot
+    from cubot_cad.robots.registry import make_robot
 
     with pytest.raises(InputError, match="octbot has none"):
         PierColumn(make_robot("octbot"), 2)
@@ -367,7 +367,7 @@ def test_cli_writes_numbers_step_and_glb(cli, tmp_path, top_down):
     assert json.loads((tmp_path / "pier-cubot-2.json").read_text())["checks"]["docking"]["ok"]
     import trimesh
 
-    from cubot_cad.gltf import cad_bounds_mm
+    from cubot_cad.outputs.gltf import cad_bounds_mm
 
     b = cad_bounds_mm(trimesh.load(tmp_path / "pier-cubot-2.glb").bounds)
     assert b[1][2] == pytest.approx(out["running_surface_mm"] - 15.0, abs=0.3)  # the deck is the top
@@ -379,7 +379,7 @@ def test_cli_writes_numbers_step_and_glb(cli, tmp_path, top_down):
 # --- the properties record --------------------------------------------------------------------
 
 def test_record_fields_are_the_columns_numbers(column, cubot, top_down):
-    from cubot_cad.pier import record_fields
+    from cubot_cad.piers.pier import record_fields
 
     f = record_fields(cubot, top_down)
     assert f["standing_height_m"] == pytest.approx(column.standing_height_mm / 1000, abs=1e-12)
@@ -416,7 +416,7 @@ NEW_FIELDS = ("standing_height_m", "standing_height_source", "stack_pitch_m", "s
 
 
 def test_record_round_trips_with_and_without_the_new_fields(tmp_path):
-    from cubot_cad.pier import add_record_fields
+    from cubot_cad.piers.pier import add_record_fields
     from cubot_cad.properties import RobotPropertiesFile, default_properties
 
     props = default_properties()
@@ -466,7 +466,7 @@ def test_cli_other_bad_values_exit_2_before_any_work(cli, tmp_path, argv, word):
 def test_cad_export_adds_the_fields_for_the_robots_that_stack(top_down):
     """`cad export` (do_export) computes them before writing: measured pitch with docking,
     designed pitch without; the robots without a top-down coupling get none."""
-    from cubot_cad.deck import dock_deck
+    from cubot_cad.piers.deck import dock_deck
     from voidcross.commands.cad import _stack_fields
 
     got = _stack_fields(("cubot", "octbot", "platform"), 0.2, [top_down])
@@ -478,7 +478,7 @@ def test_cad_export_adds_the_fields_for_the_robots_that_stack(top_down):
 
 
 def top_down_robot():
-    from cubot_cad.registry import make_robot
+    from cubot_cad.robots.registry import make_robot
 
     return make_robot("cubot")
 

@@ -15,7 +15,7 @@ def _planar_faces_at(shape, z, tol=1e-6):
 
 
 def _pins(robots):
-    from cubot_cad.connectors import GroovedPin
+    from cubot_cad.couplings.connectors import GroovedPin
 
     return [(name, part) for name, r in robots.items() for part, _ in r.printable_parts() if isinstance(part, GroovedPin)]
 
@@ -60,7 +60,7 @@ def test_every_grooved_pin_prints_lying_down_on_its_flat(robots):
 def test_the_pin_flat_keeps_the_latch_overlap(c):
     """The flat is as deep as the locked blade's overlap over the flattened shoulder allows (>= the
     minimum overlap), 0.4 mm at most."""
-    from cubot_cad.connectors import MIN_LATCH_OVERLAP_MM, FrontRearSpec
+    from cubot_cad.couplings.connectors import MIN_LATCH_OVERLAP_MM, FrontRearSpec
 
     s = FrontRearSpec(clearance_mm=c)
     assert 0.1 - 1e-9 <= s.pin_flat_mm <= 0.4
@@ -97,8 +97,8 @@ def test_pin_locking_plate_prints_larger_face_down_counterbores_up(robots):
 
 def test_every_part_in_print_orientation_has_z_min_0(robots):
     """Every exported part (per robot and per pier), as laid on the bed and as meshed for its STL."""
-    from cubot_cad.deck import pier_parts
     from cubot_cad.mesh import mesh_of
+    from cubot_cad.piers.deck import pier_parts
     from cubot_cad.shapes import tight_bbox
 
     seen = 0

@@ -135,7 +135,7 @@ def test_every_shipped_connector_names_where_its_values_come_from(props):
 def test_front_rear_tension_play_is_the_two_clearances_in_series():
     """Pin head in its counterbore + blade in the pin groove: 0.4 mm at 0.2 mm clearance, and the
     pitch backlash is that play over the highest pin's lever arm (not one clearance)."""
-    from cubot_cad.cubot import CuBot
+    from cubot_cad.robots.cubot import CuBot
 
     cub = CuBot()
     fr = cub.connector_properties(2.2e9)[0]
@@ -151,7 +151,7 @@ def test_front_rear_tension_play_is_the_two_clearances_in_series():
                                           ("side_rail", "rail_vertical"), ("top_twist", "key_slip"),
                                           ("top_twist", "pull_out")])
 def test_doubling_the_cad_clearance_doubles_each_feature_play(kind, feature):
-    from cubot_cad.cubot import CuBot
+    from cubot_cad.robots.cubot import CuBot
 
     def play(c):
         conns = {x.kind: x for x in CuBot(clearance_mm=c).connector_properties(2.2e9)}

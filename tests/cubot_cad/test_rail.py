@@ -13,7 +13,7 @@ from cubot_cad.part import MAX_CLEARANCE_MM, MIN_CLEARANCE_MM
 
 def _docked_rails(c):
     """Male and female halves of one rail, docked (rail frame of the male)."""
-    from cubot_cad.connectors import RailFemale, RailMale, RailSpec
+    from cubot_cad.couplings.connectors import RailFemale, RailMale, RailSpec
     from cubot_cad.shapes import location
 
     s = RailSpec(clearance_mm=c)
@@ -60,7 +60,7 @@ def test_groove_flanks_are_parallel_to_the_tongue_flanks_at_the_clearance(c):
 def test_the_docked_pair_slides_apart_only_by_the_flank_play(pairs):
     """A uniform flank gap c lets the rails be pulled apart by c / sin(flank angle) before both
     flanks catch together (0.447 mm at 0.2 mm)."""
-    from cubot_cad.connectors import RailSpec
+    from cubot_cad.couplings.connectors import RailSpec
 
     s = RailSpec()
     slope = (s.tongue_tip_mm - s.tongue_root_mm) / 2 / s.tongue_mm
@@ -81,7 +81,7 @@ def test_the_exported_female_rail_prints_groove_up(export_dir):
     """The shipped STL: the back face lies on the bed, solid across the whole rail (no 12.6 x 80 mm
     bridge under the groove), and the groove opens at the top: sections above the groove floor are
     two lips with the groove between them, sections below it one plate."""
-    from cubot_cad.connectors import RailSpec
+    from cubot_cad.couplings.connectors import RailSpec
 
     s = RailSpec()
     m = _manifold(export_dir / "cubot" / "rail_female_right.stl")
@@ -125,7 +125,7 @@ def test_the_exported_female_rail_prints_groove_up(export_dir):
 def test_ir_holes_keep_a_wall_to_the_groove_across_the_range():
     """The groove widens with the clearance; the IR holes stay at the thesis position while it
     leaves two nozzle widths, and move out (not into the groove) beyond that."""
-    from cubot_cad.connectors import RailSpec
+    from cubot_cad.couplings.connectors import RailSpec
     from cubot_cad.part import MIN_WALL_MM
 
     thesis_z = None

@@ -9,13 +9,13 @@ import pytest
 
 
 def _m(shape):
-    from cubot_cad.docking import to_manifold
+    from cubot_cad.checks.docking import to_manifold
 
     return to_manifold(shape)
 
 
 def _union(shapes):
-    from cubot_cad.docking import union
+    from cubot_cad.checks.docking import union
 
     return union([_m(s) for s in shapes])
 
@@ -23,7 +23,7 @@ def _union(shapes):
 def test_rail_holes_come_from_the_fastener_table(robots):
     from collections import Counter
 
-    from cubot_cad.fasteners import clearance_hole_mm, thread
+    from cubot_cad.hardware.fasteners import clearance_hole_mm, thread
 
     r = robots["cubot"]
     rs = r.rail_spec
@@ -39,8 +39,8 @@ def test_rail_holes_come_from_the_fastener_table(robots):
 def test_screws_clear_their_own_robot_and_reach_the_inserts(robots):
     import cadquery as cq
 
-    from cubot_cad.docking import intersection_volume
-    from cubot_cad.fasteners import thread
+    from cubot_cad.checks.docking import intersection_volume
+    from cubot_cad.hardware.fasteners import thread
     from cubot_cad.shapes import tight_bbox
 
     r = robots["cubot"]
@@ -86,7 +86,7 @@ def test_docked_side_rail_pair_screws_do_not_touch_the_other_robot(pairs, robots
     """Docked: B (on A's left) has its female rail on A's male. 0 interference with the screws counted
     (the pair's own measurement includes them), and each robot's screw heads keep at least the print
     clearance plus the recess to the other robot's rail."""
-    from cubot_cad.docking import intersection_volume
+    from cubot_cad.checks.docking import intersection_volume
 
     p = pairs["cubot-side-rail"]
     assert p.ok and p.interference_mm3 < 1e-3
@@ -110,7 +110,7 @@ def test_docked_side_rail_pair_screws_do_not_touch_the_other_robot(pairs, robots
 def test_sliding_in_along_the_rail_never_touches_a_screw(pairs, robots):
     """B slides in from behind along +x (the only way a dovetail goes together): at every 1 mm of the
     path, B's rails and screws against A's rails and screws: no interference."""
-    from cubot_cad.docking import intersection_volume
+    from cubot_cad.checks.docking import intersection_volume
 
     r = robots["cubot"]
     p = pairs["cubot-side-rail"]
@@ -133,7 +133,7 @@ def test_sliding_in_along_the_rail_never_touches_a_screw(pairs, robots):
 
 
 def test_bom_lists_the_rail_screws_and_inserts(robots):
-    from cubot_cad.bom import bom_rows
+    from cubot_cad.outputs.bom import bom_rows
 
     r = robots["cubot"]
     rows = [x for x in bom_rows(r, 1040.0) if x["category"] == "fastener"]
@@ -146,7 +146,7 @@ def test_bom_lists_the_rail_screws_and_inserts(robots):
     uses = [u for u in r.fasteners() if "rail" in u.where and u.kind == "ISO 10642"]
     assert sum(u.count for u in uses) == 4
     # the screws are as long as the insert allows: head top to wall + at least half the insert
-    from cubot_cad.fasteners import thread
+    from cubot_cad.hardware.fasteners import thread
 
     for u in uses:
         grip = r.rail_spec.screw_grip_mm("(left)" in u.where)
@@ -155,7 +155,7 @@ def test_bom_lists_the_rail_screws_and_inserts(robots):
 
 @pytest.mark.parametrize("c", (0.1, 0.5))
 def test_rail_screws_build_over_the_clearance_range(c):
-    from cubot_cad.registry import make_robot
+    from cubot_cad.robots.registry import make_robot
 
     r = make_robot("cubot", c)
     for p in r.placed:

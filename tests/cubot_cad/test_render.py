@@ -10,7 +10,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from cubot_cad.render import DEFAULT_SIZE_PX, camera_axes, render_image, render_robot, robot_groups
+from cubot_cad.outputs.render import (
+    DEFAULT_SIZE_PX,
+    camera_axes,
+    render_image,
+    render_robot,
+    robot_groups,
+)
 
 pytest.importorskip("vtk")
 
@@ -74,7 +80,7 @@ def test_camera_axes_are_orthonormal_and_match_matplotlib():
 
 
 def test_robot_fills_the_frame_and_every_connector_colour_shows(robots):
-    from cubot_cad.robot import role_colour
+    from cubot_cad.robots.base import role_colour
 
     cubot = robots["cubot"]
     img = render_image(robot_groups(cubot), shading="flat", edges=False)

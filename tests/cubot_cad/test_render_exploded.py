@@ -1,4 +1,4 @@
-"""Exploded views (cubot_cad.exploded): every part is in the assembly plan, the steps' parts are
+"""Exploded views (cubot_cad.outputs.exploded): every part is in the assembly plan, the steps' parts are
 moved clear of each other, stacks open in their own order, the callouts carry the step numbers
 of docs/assembly.md, and the docs' images and step tables are current."""
 
@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cubot_cad.exploded import (
+from cubot_cad.outputs.exploded import (
     DOC_ROBOTS,
     VIEWS,
     doc_block,
@@ -95,7 +95,7 @@ def test_a_part_no_step_selects_is_an_error(robots):
 def test_exploded_view_png(robots, tmp_path):
     from PIL import Image
 
-    from cubot_cad.robot import role_colour
+    from cubot_cad.robots.base import role_colour
 
     p = exploded_view(robots["octbot"], tmp_path / "octbot-exploded.png")
     im = np.asarray(Image.open(p).convert("RGB")).astype(int)
@@ -115,6 +115,6 @@ def test_assembly_guide_shows_the_current_plan(robots, name):
     from PIL import Image
 
     md = (DOCS / "assembly.md").read_text(encoding="utf-8")
-    assert doc_block(robots[name]) in md, "stale: run `python -m cubot_cad.exploded`"
+    assert doc_block(robots[name]) in md, "stale: run `python -m cubot_cad.outputs.exploded`"
     img = DOCS / "img" / f"{name}-exploded.png"
     assert Image.open(img).size == (1600, 1200)

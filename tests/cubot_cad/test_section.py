@@ -1,4 +1,4 @@
-"""The body's bending section cut from the CAD (cubot_cad.section): closed forms, refinement,
+"""The body's bending section cut from the CAD (cubot_cad.checks.section): closed forms, refinement,
 and the section moving with the wall the CAD is built with."""
 
 from dataclasses import dataclass
@@ -8,9 +8,9 @@ import pytest
 
 cq = pytest.importorskip("cadquery")
 
+from cubot_cad.checks.section import body_section  # noqa: E402
 from cubot_cad.errors import InputError  # noqa: E402
-from cubot_cad.registry import make_robot  # noqa: E402
-from cubot_cad.section import body_section  # noqa: E402
+from cubot_cad.robots.registry import make_robot  # noqa: E402
 
 
 @dataclass(frozen=True)

@@ -1,4 +1,4 @@
-"""Slicing with the recorded print settings (cubot_cad.slicing): the settings reach PrusaSlicer
+"""Slicing with the recorded print settings (cubot_cad.checks.slicing): the settings reach PrusaSlicer
 (more infill -> more grams; supports on a part that needs them -> more grams, the printed mass
 unchanged), the G-code is parsed right (a header sample), and `cad check` uses the manifest's
 settings per part."""
@@ -9,8 +9,7 @@ import json
 
 import pytest
 
-from cubot_cad.errors import InputError
-from cubot_cad.slicing import (
+from cubot_cad.checks.slicing import (
     check_applied,
     parse_duration_s,
     parse_gcode,
@@ -20,6 +19,7 @@ from cubot_cad.slicing import (
     slicer_args,
     slicer_path,
 )
+from cubot_cad.errors import InputError
 
 BASE = {"nozzle_mm": 0.4, "layer_mm": 0.2, "perimeters": 2, "top_bottom_layers": 3, "infill_percent": 20,
         "supports": False, "support_reason": None}
@@ -191,7 +191,7 @@ def test_cad_check_slices_with_the_manifest_settings(block_stl, tmp_path, requir
     """Two copies of the block under one export root, recorded at 15 % and 60 % infill: `cad check`'s
     slice follows each part's manifest entry, and the per-robot totals add them up."""
     require_tool(slicer_path(), "prusa-slicer")
-    from cubot_cad.check import check_file, slicing_totals
+    from cubot_cad.checks.check import check_file, slicing_totals
     from cubot_cad.manifest import MANIFEST_SCHEMA
 
     (tmp_path / "bot").mkdir()
@@ -243,7 +243,7 @@ def test_cache_returns_the_stored_slice_and_keys_on_the_settings(block_stl, tmp_
 
 def test_slice_into_manifest_adds_part_and_robot_numbers(block_stl, require_tool):
     require_tool(slicer_path(), "prusa-slicer")
-    from cubot_cad.slicing import slice_into_manifest
+    from cubot_cad.checks.slicing import slice_into_manifest
 
     man = {"density_kg_m3": 1040.0, "robots": {"bot": {"title": "Bot"}},
            "parts": [{"robot": "bot", "part": "block", "file": block_stl.name, "quantity": 2, "per": "robot",
@@ -259,7 +259,7 @@ def test_slice_into_manifest_adds_part_and_robot_numbers(block_stl, require_tool
 def test_every_parts_recorded_settings_map_to_the_slicer(robots):
     """What the export records for each part (cubot_cad.part.Part.print_settings) slices: a new key
     must get an option in slicer_args or be listed as a note, or `cad check` could not honour it."""
-    from cubot_cad.deck import pier_parts
+    from cubot_cad.piers.deck import pier_parts
 
     for robot in robots.values():
         for part, _q in [*robot.printable_parts(), *pier_parts(robot)]:
@@ -273,7 +273,7 @@ def test_every_exported_part_slices_with_its_recorded_settings(export_dir, requi
     """`make test` slices every shipped STL (about 4 min here): each one with its manifest settings,
     the slicer applying every one of them; per robot the print is lighter than the solid model."""
     require_tool(slicer_path(), "prusa-slicer")
-    from cubot_cad.slicing import slice_manifest
+    from cubot_cad.checks.slicing import slice_manifest
 
     res = slice_manifest(export_dir)
     failed = [(r["file"], r["slice"]["detail"]) for r in res["parts"] if not r["slice"]["ok"]]
@@ -290,7 +290,7 @@ def test_every_exported_part_slices_with_its_recorded_settings(export_dir, requi
 
 
 def test_printed_fractions_are_per_part_and_only_for_fully_sliced_robots():
-    from cubot_cad.slicing import printed_fractions
+    from cubot_cad.checks.slicing import printed_fractions
 
     ok = {"ok": True, "printed_mass_g": 6.0}
     man = {"parts": [
@@ -306,7 +306,7 @@ def test_printed_fractions_are_per_part_and_only_for_fully_sliced_robots():
 def test_a_printed_fraction_scales_each_parts_mass_and_inertia():
     """The record's mass follows the slicer: the platform's plate at half its solid mass halves the
     printed mass, keeps its COM (one part) and halves its inertia; a bad fraction is refused."""
-    from cubot_cad.registry import make_robot
+    from cubot_cad.robots.registry import make_robot
 
     r = make_robot("platform", 0.2, ())
     solid = r.mass_properties()
@@ -323,7 +323,7 @@ def test_a_printed_fraction_scales_each_parts_mass_and_inertia():
 def test_a_sliced_export_feeds_the_printed_mass_into_the_record(tmp_path, require_tool):
     """`cad export --slice`: the robot's record has the slicer's printed grams (plus the bought
     parts) instead of the solid model's, and its source says which slicer; unsliced, the solid."""
-    from cubot_cad.export import export_robots
+    from cubot_cad.outputs.export import export_robots
     from cubot_cad.properties import RobotPropertiesFile
 
     require_tool(slicer_path(), "prusa-slicer")

@@ -1,11 +1,11 @@
 """The CuBot's twist-lock turns (issue 15, item 1): the cross key turns on a shaft in a fixed bearing
-ring, driven by a named servo (cubot_cad.servos) through its horn, and locks.
+ring, driven by a named servo (cubot_cad.hardware.servos) through its horn, and locks.
 
 Motion test in the docked top-down pair (robot B on robot A's cover, the measured docked offset):
 the turning set (key, horn, horn screws, servo spline) is swept through the drive's 90 deg of travel
 and must touch nothing (its own bearing ring, B's floor and servo bosses, the servo, every stand-in,
 A's collar); turned to the lock it must hold when B is lifted, open it must lift out. Volumes are
-manifold3d intersections (mm^3), as cubot_cad.docking measures pairs."""
+manifold3d intersections (mm^3), as cubot_cad.checks.docking measures pairs."""
 
 from __future__ import annotations
 
@@ -14,9 +14,15 @@ import math
 import numpy as np
 import pytest
 
-from cubot_cad.deck import HOLD_MM3, LIFT_MM
-from cubot_cad.docking import CONTACT_MM3, intersection_volume, manifold_of, to_manifold, union
+from cubot_cad.checks.docking import (
+    CONTACT_MM3,
+    intersection_volume,
+    manifold_of,
+    to_manifold,
+    union,
+)
 from cubot_cad.errors import InputError
+from cubot_cad.piers.deck import HOLD_MM3, LIFT_MM
 
 #: The mass lumps of the component table (no shape: a mass spread over the body), not stand-ins.
 LUMPS = ("fasteners", "wiring")
@@ -25,14 +31,14 @@ STEPS = 12
 
 @pytest.fixture(scope="module")
 def cubot():
-    from cubot_cad.registry import make_robot
+    from cubot_cad.robots.registry import make_robot
 
     return make_robot("cubot")
 
 
 @pytest.fixture(scope="module")
 def pair():
-    from cubot_cad.docking import dock
+    from cubot_cad.checks.docking import dock
 
     return dock("cubot-top-down")
 
@@ -161,7 +167,7 @@ def test_the_fixed_screws_never_turn_and_stay_in_their_holes(cubot):
         key, _, _ = _turning(cubot, turn)
         assert _vol([key], probes) == 0.0
     # and the holes are the parts' own: the printed key has no screw hole but its horn's two tap holes
-    from cubot_cad.fasteners import tap_hole_mm
+    from cubot_cad.hardware.fasteners import tap_hole_mm
 
     r_tap = tap_hole_mm(d.horn.screw_size) / 2
     circles = [e for e in cubot.twist_key.solid.Edges() if e.geomType() == "CIRCLE"
@@ -174,7 +180,7 @@ def test_the_old_flange_screw_collision_is_gone(cubot, pair):
     """What the deck's engineer found: the one-piece key's flange screws (M3 x 10 + nuts, turned with
     the key) reached into the lower robot's collar roof and through the locking key's lip. Modelled as
     solids, the old screws collide (the check sees it); the new drive's screws, nuts and ring do not."""
-    from cubot_cad.fasteners import thread
+    from cubot_cad.hardware.fasteners import thread
     from cubot_cad.shapes import Z, cyl, rotated
 
     s, off = cubot.top_spec, np.asarray(pair.offset_mm)
@@ -263,7 +269,7 @@ def test_the_servo_drives_the_key_through_its_horn(cubot):
 def test_the_servo_turns_the_key_with_a_margin(cubot):
     """Friction of the key's head on the collar roof and of its disc on the ring (mu 0.5) with the upper
     robot hanging from the key (its own weight): the SG90's 1.8 kgf cm stall torque is 5 times that."""
-    from cubot_cad.twist import turning_torque_nm
+    from cubot_cad.couplings.twist import turning_torque_nm
 
     d, s = cubot.drive_spec, cubot.top_spec
     sv = d.servo_row
@@ -281,7 +287,7 @@ def test_the_servo_turns_the_key_with_a_margin(cubot):
 def test_the_new_parts_print_and_say_so(cubot, tmp_path):
     """The repository's printability check (watertight, manifold, on the bed, walls >= 0.8 mm) on the
     twist key and the bearing ring as exported; the key needs a support under its disc (recorded)."""
-    from cubot_cad.check import check_file
+    from cubot_cad.checks.check import check_file
     from cubot_cad.mesh import mesh_of
 
     for part in (cubot.twist_key, cubot.key_bearing, cubot.body):
@@ -293,7 +299,7 @@ def test_the_new_parts_print_and_say_so(cubot, tmp_path):
 
 
 def test_the_bill_of_materials_lists_the_drive(cubot):
-    from cubot_cad.bom import bom_rows
+    from cubot_cad.outputs.bom import bom_rows
 
     rows = {r["item"]: r for r in bom_rows(cubot, 1040.0)}
     assert rows["twist_key"]["category"] == "printed" and int(rows["twist_key"]["quantity"]) == 1
@@ -319,8 +325,8 @@ def test_the_bill_of_materials_lists_the_drive(cubot):
     ({"wire_slot_deg": 135.0}, "TwistDriveSpec.wire_slot_deg 135"),  # into a horn screw
 ])
 def test_bad_drive_dimensions_are_one_line_input_errors(kw, word):
-    from cubot_cad.cubot import CuBot
-    from cubot_cad.twist import TwistDriveSpec
+    from cubot_cad.couplings.twist import TwistDriveSpec
+    from cubot_cad.robots.cubot import CuBot
 
     with pytest.raises(InputError) as exc:
         CuBot(drive=TwistDriveSpec(**kw)).twist_key.volume_mm3  # noqa: B018 (parts validate on build)
@@ -329,8 +335,8 @@ def test_bad_drive_dimensions_are_one_line_input_errors(kw, word):
 
 def test_the_metal_gear_servo_fits_too():
     """The table's MG90S (taller, metal gears) builds: the boards move up over it, nothing overlaps it."""
-    from cubot_cad.cubot import CuBot
-    from cubot_cad.twist import TwistDriveSpec
+    from cubot_cad.couplings.twist import TwistDriveSpec
+    from cubot_cad.robots.cubot import CuBot
 
     r = CuBot(drive=TwistDriveSpec(servo="MG90S"))
     servo = next(c for c in r.components() if c.key == "twist_servo")

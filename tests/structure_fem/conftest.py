@@ -12,7 +12,7 @@ from cubot_cad.properties import (
     default_properties,
 )
 
-#: The CuBot's contacts (cubot_cad.cubot defaults: casters 38 mm fore and aft of the wheels' axle at
+#: The CuBot's contacts (cubot_cad.robots.cubot defaults: casters 38 mm fore and aft of the wheels' axle at
 #: the centre, all 15 mm below the underside), for test robots that stand on wheels.
 CUBOT_LIKE_CONTACTS = ((-0.038, "caster"), (0.0, "wheel"), (0.038, "caster"))
 

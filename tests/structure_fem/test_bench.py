@@ -6,11 +6,11 @@ import pytest
 
 pytest.importorskip("exudyn")
 
-from structure_fem.model import Config  # noqa: E402
-from structure_fem.model import solve_uncached as solve  # noqa: E402  (the solver, not the solve cache)
-from structure_fem.runs import RunOptions, run_table  # noqa: E402
-from structure_fem.structures import Structure  # noqa: E402
-from structure_fem.study import StudyInputs  # noqa: E402
+from structure_fem.analysis.study import StudyInputs  # noqa: E402
+from structure_fem.model.statics import Config  # noqa: E402
+from structure_fem.model.statics import solve_uncached as solve  # noqa: E402  (the solver, not the solve cache)
+from structure_fem.model.structures import Structure  # noqa: E402
+from structure_fem.outputs.runs import RunOptions, run_table  # noqa: E402
 
 
 @pytest.mark.bench
@@ -35,7 +35,7 @@ def test_bench_whole_table(benchmark, tmp_path):
 @pytest.mark.bench
 def test_bench_all_packaged_connector_fe_cold(benchmark, tmp_path):
     """Issue 12's goal: every packaged connector FE from nothing <= 5 min (2 processes)."""
-    from structure_fem.connector_sources import PACKAGED_FINDERS, compute_packaged_fe
+    from structure_fem.couplings.connector_sources import PACKAGED_FINDERS, compute_packaged_fe
 
     results, _wall, _per = benchmark.pedantic(compute_packaged_fe, args=(tmp_path,),
                                               kwargs={"workers": 2, "packaged": False}, rounds=1, iterations=1)

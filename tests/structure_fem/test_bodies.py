@@ -1,7 +1,7 @@
 """Flexible bodies (issue 12, deliverable 3): the robots bend with the CAD's section.
 
 The record carries the printed shell's effective second moment of area
-(``body_second_moment_m4``, cut from the CAD by ``cubot_cad.section``); the table's model
+(``body_second_moment_m4``, cut from the CAD by ``cubot_cad.checks.section``); the table's model
 lumps ``L / (E I)`` at the front-rear joints. These tests pin what that must do.
 """
 
@@ -10,10 +10,10 @@ from dataclasses import replace
 import pytest
 
 from cubot_cad.errors import InputError as CadInputError
-from structure_fem.bodies import LEGACY_SOURCE, body_bending, with_body_bending
-from structure_fem.connectors import ConnectorSet
-from structure_fem.model import Config, SolverOptions, solve
-from structure_fem.structures import Structure
+from structure_fem.model.bodies import LEGACY_SOURCE, body_bending, with_body_bending
+from structure_fem.model.connectors import ConnectorSet
+from structure_fem.model.statics import Config, SolverOptions, solve
+from structure_fem.model.structures import Structure
 
 #: The CuBot shell's I_eff as the CAD cuts it (tests/cubot_cad/test_section.py measures 3.39e5 mm^4).
 CUBOT_I_M4 = 3.39e-7
@@ -85,7 +85,7 @@ def test_lumped_bodies_against_exudyn_ancf_beams_at_cubot_like_joints(make_robot
     """At couplings as stiff as the CuBot's (FE: about 1.1e3 N m/rad front-rear) the table's
     lumped bodies are within 10 % of robots as exudyn ANCF cable elements with the same E I
     (clamped line of 3 and 5, no play), and on the safe side."""
-    from structure_fem.beams import flexible_line_tip
+    from structure_fem.model.beams import flexible_line_tip
 
     robot = _with_section(make_robot(k=k, k_ax=1e9))
     conn = replace(ConnectorSet.from_robot(robot), hinge="lumped")  # joints as springs: the bodies are the subject
@@ -105,7 +105,7 @@ def test_lumped_bodies_overcount_the_body_share_as_the_closed_form_says(make_rob
     cantilever of n robots the bodies' share of the tip is then ``w L^4 / (2 E I) sum m^3``
     against the beam's ``w (n L)^4 / (8 E I)``: a ratio ``(n + 1)^2 / n^2`` (n = 3: 1.78,
     n = 5: 1.44). The model's ratio (lumped - rigid) / (ANCF - rigid) matches it within 10 %."""
-    from structure_fem.beams import flexible_line_tip
+    from structure_fem.model.beams import flexible_line_tip
 
     k = 2.0e4
     robot = _with_section(make_robot(k=k, k_ax=1e9))

@@ -8,7 +8,7 @@ import pytest
 
 pytest.importorskip("exudyn")
 
-from structure_fem.calibration import (  # noqa: E402
+from structure_fem.analysis.calibration import (  # noqa: E402
     CROSSING_READING,
     HELD_READING,
     MEASURED_TIP_M,

@@ -1,4 +1,4 @@
-"""Connector compliance by 3D FE from the CuBot's parametric dimensions (structure_fem.connector_fe).
+"""Connector compliance by 3D FE from the CuBot's parametric dimensions (structure_fem.couplings.connector_fe).
 
 The fast tests check the geometry read from cubot_cad, the hash and the cache (with the FE
 solve replaced by a stub, so they cost milliseconds). The real FE runs of the CuBot coupling
@@ -15,8 +15,8 @@ import pytest
 pytest.importorskip("skfem")
 pytest.importorskip("gmsh")
 
-from cubot_cad.cubot import CuBot  # noqa: E402
-from structure_fem import connector_fe as cfe  # noqa: E402
+from cubot_cad.robots.cubot import CuBot  # noqa: E402
+from structure_fem.couplings import connector_fe as cfe  # noqa: E402
 
 
 def THICK() -> CuBot:
@@ -150,8 +150,8 @@ def test_the_cube_robot_geometry_is_its_connector_cuboid_wall():
     """The Cube Robot's pins sit in blocks on the connector cuboid's front wall (tier 2): the
     panel spans that tier (floor mid-plane to its top edge), the blocks are at +-block_offset_mm at
     the tier's mid-height, and its pins are 1.7 mm longer than the latch is deep, so the docked
-    robots stand apart and the hinge is the lowest pin row (cubot_cad.couplings.front_rear)."""
-    from cubot_cad.cube_robot import CubeRobot
+    robots stand apart and the hinge is the lowest pin row (cubot_cad.couplings.compliance.front_rear)."""
+    from cubot_cad.robots.cube_robot import CubeRobot
 
     robot = CubeRobot()
     g = cfe.FrontRearGeometry.of(robot)
@@ -175,7 +175,7 @@ def test_the_cube_robot_joint_follows_its_wall_and_its_hinge():
     """Coarse FE of the Cube Robot's coupling: a thicker cuboid wall is stiffer; with its hinge at
     the lowest pin row (the docked gap) the pitch stiffness is far below the CuBot's (hinge at the
     underside, 30-37 mm lever arms) although the pins and blocks are the same."""
-    from cubot_cad.cube_robot import CubeRobot
+    from cubot_cad.robots.cube_robot import CubeRobot
 
     mat = cfe.Material.from_cubot_cad("abs")
     thin = cfe.compute_front_rear(cfe.FrontRearGeometry.of(CubeRobot()), mat, COARSE, with_shear=False)

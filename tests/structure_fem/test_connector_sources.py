@@ -9,10 +9,10 @@ from dataclasses import replace
 import pytest
 
 from cubot_cad.properties import default_properties
-from structure_fem import connector_sources as cs
+from structure_fem.couplings import connector_sources as cs
 from structure_fem.errors import InputError
 from structure_fem.limits import load_limits
-from structure_fem.runs import RunOptions, make_inputs
+from structure_fem.outputs.runs import RunOptions, make_inputs
 
 
 @pytest.fixture(scope="module")
@@ -74,7 +74,7 @@ def test_the_fe_is_looked_up_by_its_geometry_and_material_hash(tmp_path, package
     assert fe.rotational_stiffness_nm_per_rad == packaged_fe["rotational_stiffness_nm_per_rad"]
     assert where.startswith("packaged")
     # another print clearance is another geometry: another key
-    from cubot_cad.cubot import CuBot
+    from cubot_cad.robots.cubot import CuBot
 
     loose = replace(rec, connectors=tuple(CuBot(clearance_mm=0.3).connector_properties(
         rec.youngs_modulus_pa, {c.kind: c.gap_m * 1e3 for c in rec.connectors})))

@@ -10,15 +10,15 @@ import pytest
 
 from cubot_cad.errors import InputError as CadInputError
 from cubot_cad.properties import GroundContact, RobotPropertiesFile, ground_contact_fields
-from structure_fem.connectors import ConnectorSet
-from structure_fem.contacts import ground_support
-from structure_fem.structures import Structure, layout, rigid_tipping, tipping_edge
+from structure_fem.model.connectors import ConnectorSet
+from structure_fem.model.contacts import ground_support
+from structure_fem.model.structures import Structure, layout, rigid_tipping, tipping_edge
 
 from .conftest import CUBOT_LIKE_CONTACTS
 
 
 def test_cubot_contacts_come_from_its_wheels_and_casters():
-    from cubot_cad.cubot import CuBot
+    from cubot_cad.robots.cubot import CuBot
 
     f = ground_contact_fields(CuBot())
     got = {(c.feature, round(c.x_m, 9), round(c.z_m, 9), c.count) for c in f["ground_contacts"]}
@@ -33,7 +33,7 @@ def test_cubot_contacts_come_from_its_wheels_and_casters():
 
 
 def test_platform_without_wheels_has_no_contacts():
-    from cubot_cad.platform import TestPlatform
+    from cubot_cad.robots.platform import TestPlatform
 
     assert ground_contact_fields(TestPlatform()) == {}
 
@@ -76,7 +76,7 @@ def test_fallback_for_records_without_contacts(cubot, make_robot):
 
 
 def test_supports_sit_at_the_contacts_over_the_ledge(make_robot):
-    from structure_fem.connectors import ConnectorSet
+    from structure_fem.model.connectors import ConnectorSet
 
     r = make_robot(contacts=CUBOT_LIKE_CONTACTS)
     conn = ConnectorSet.from_robot(r)
@@ -106,7 +106,7 @@ def _rigid_line_factor(n_p, n_g, a, s):
 
 @pytest.mark.parametrize("n_p,n_g", [(4, 3), (6, 4), (11, 10)])
 def test_contacts_tip_sooner_than_corners(n_p, n_g, make_robot):
-    from structure_fem.model import Config, solve
+    from structure_fem.model.statics import Config, solve
 
     s = Structure("line")
     on_corners = make_robot(k=2e4, k_ax=1e8)
@@ -125,9 +125,9 @@ def test_contacts_tip_sooner_than_corners(n_p, n_g, make_robot):
 
 
 def test_moving_the_contact_back_lowers_the_tipping_factor(make_robot):
-    from structure_fem.connectors import ConnectorSet
-    from structure_fem.model import Config, solve
-    from structure_fem.study import StudyInputs, min_rows
+    from structure_fem.analysis.study import StudyInputs, min_rows
+    from structure_fem.model.connectors import ConnectorSet
+    from structure_fem.model.statics import Config, solve
 
     factors, rows = [], []
     for front in (0.045, 0.038, 0.025, None):  # None: no front caster, it tips about its wheels
@@ -142,8 +142,8 @@ def test_moving_the_contact_back_lowers_the_tipping_factor(make_robot):
 
 
 def test_piers_rest_on_the_contacts_over_the_top(make_robot):
-    from structure_fem.connectors import ConnectorSet
-    from structure_fem.structures import Pier
+    from structure_fem.model.connectors import ConnectorSet
+    from structure_fem.model.structures import Pier
 
     r = make_robot(contacts=CUBOT_LIKE_CONTACTS)
     pier = Pier(3.0, 1e6)
@@ -156,8 +156,8 @@ def test_piers_rest_on_the_contacts_over_the_top(make_robot):
 def test_the_tipping_factor_is_the_restoring_over_the_overturning_gravity_moment(make_robot):
     """One home for the moments: the anchored fallback's tipping factor takes them from
     ``gravity_moments``, the same sums the tipping factor divides."""
-    from structure_fem.connectors import ConnectorSet
-    from structure_fem.structures import GRAVITY, gravity_moments, tipping_factor
+    from structure_fem.model.connectors import ConnectorSet
+    from structure_fem.model.structures import GRAVITY, gravity_moments, tipping_factor
 
     r = make_robot(contacts=CUBOT_LIKE_CONTACTS)
     lay = layout(Structure("line"), r, ConnectorSet.from_robot(r), 9, 4, 4)

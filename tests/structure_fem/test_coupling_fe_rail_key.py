@@ -13,12 +13,12 @@ import pytest
 pytest.importorskip("skfem")
 pytest.importorskip("gmsh")
 
-from cubot_cad.connectors import RailSpec, TopTwistSpec  # noqa: E402
-from cubot_cad.couplings import cantilever_k  # noqa: E402
-from cubot_cad.cubot import CuBot  # noqa: E402
-from structure_fem import connector_sources as cs  # noqa: E402
-from structure_fem import rail_key_fe as rk  # noqa: E402
-from structure_fem.connector_fe import Material  # noqa: E402
+from cubot_cad.couplings.compliance import cantilever_k  # noqa: E402
+from cubot_cad.couplings.connectors import RailSpec, TopTwistSpec  # noqa: E402
+from cubot_cad.robots.cubot import CuBot  # noqa: E402
+from structure_fem.couplings import connector_sources as cs  # noqa: E402
+from structure_fem.couplings import rail_key_fe as rk  # noqa: E402
+from structure_fem.couplings.connector_fe import Material  # noqa: E402
 
 ABS = Material.from_cubot_cad("abs")
 COARSE_RAIL = rk.FEMesh(2.0)
@@ -137,8 +137,8 @@ def test_resolve_uses_the_fe_of_the_rail_and_the_key_with_fe_provenance(cubot, t
     assert key.rotational_stiffness_nm_per_rad == key_fe.rotational_stiffness_nm_per_rad
     assert key.play == krec.play and key.backlash_rad == krec.backlash_rad
     # a pier's key (vertical) is then the FE's pull-out stiffness
-    from structure_fem.connectors import ConnectorSet
-    from structure_fem.piers import pier_stiffness
+    from structure_fem.analysis.piers import pier_stiffness
+    from structure_fem.model.connectors import ConnectorSet
 
     assert pier_stiffness(robot, ConnectorSet.from_robot(robot), 2).key_n_per_m == key_fe.vertical_stiffness_n_per_m
     # the record mode keeps the hand formulas

@@ -6,8 +6,8 @@ import pytest
 
 pytest.importorskip("exudyn")
 
-from structure_fem import design as D  # noqa: E402
-from structure_fem.runs import RunOptions, make_inputs  # noqa: E402
+from structure_fem.analysis import design as D  # noqa: E402
+from structure_fem.outputs.runs import RunOptions, make_inputs  # noqa: E402
 
 
 @pytest.fixture(scope="module")

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from structure_fem import docs_blocks as B
+from structure_fem.outputs.outputs import docs_blocks as B
 
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "structure_fem.md"
 README = Path(__file__).resolve().parents[2] / "README.md"
@@ -14,7 +14,7 @@ README = Path(__file__).resolve().parents[2] / "README.md"
 
 def test_the_page_shows_what_the_code_computes():
     text = DOCS.read_text()
-    assert B.render(text) == text, "run: python -m structure_fem.docs_blocks docs/structure_fem.md"
+    assert B.render(text) == text, "run: python -m structure_fem.outputs.docs_blocks docs/structure_fem.md"
     for name in B.BLOCKS:
         assert f"<!-- BEGIN generated {name} -->" in text
 
@@ -33,4 +33,4 @@ def test_a_block_moves_when_its_input_moves(monkeypatch, tmp_path):
 def test_the_readme_shows_the_derived_thresholds_beside_the_thesis():
     text = README.read_text()
     assert "<!-- BEGIN generated thresholds -->" in text
-    assert B.render(text) == text, "run: make docs (python -m structure_fem.docs_blocks ... README.md)"
+    assert B.render(text) == text, "run: make docs (python -m structure_fem.outputs.docs_blocks ... README.md)"

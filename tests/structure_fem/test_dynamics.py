@@ -1,4 +1,4 @@
-"""Launch dynamics (structure_fem.dynamics): the integrator against closed forms, and the
+"""Launch dynamics (structure_fem.model.dynamics): the integrator against closed forms, and the
 transients' trends on the shipped CuBot record."""
 
 from __future__ import annotations
@@ -8,11 +8,11 @@ from dataclasses import replace
 
 import pytest
 
-from structure_fem import dynamics as D
-from structure_fem.connectors import ConnectorSet
 from structure_fem.errors import InputError
-from structure_fem.model import Config, solve
-from structure_fem.structures import Structure
+from structure_fem.model import dynamics as D
+from structure_fem.model.connectors import ConnectorSet
+from structure_fem.model.statics import Config, solve
+from structure_fem.model.structures import Structure
 
 LINE = Structure("line")
 

@@ -1,4 +1,4 @@
-"""The launch transients' allowance cache (structure_fem.dynamics_cache): a pure function of its inputs."""
+"""The launch transients' allowance cache (structure_fem.model.dynamics_cache): a pure function of its inputs."""
 
 from __future__ import annotations
 
@@ -7,9 +7,9 @@ from dataclasses import replace
 
 import pytest
 
-from structure_fem import dynamics_cache as dc
-from structure_fem.connectors import ConnectorSet
-from structure_fem.structures import Structure
+from structure_fem.model.connectors import ConnectorSet
+from structure_fem.model.statics import dynamics_cache as dc
+from structure_fem.model.structures import Structure
 
 pytest.importorskip("exudyn")
 
@@ -99,12 +99,13 @@ def test_a_corrupt_cache_file_is_recomputed_and_rewritten(setup):
 def test_the_packaged_allowances_are_the_current_models(tmp_path):
     """The shipped line allowance is what a fresh integration of today's model gives for the
     default record (a stale ``MODEL_VERSION`` or record shows here)."""
-    from structure_fem.dynamics import dynamic_allowance_m
-    from structure_fem.runs import RunOptions, make_inputs
+    from structure_fem.outputs.outputs.runs import RunOptions, make_inputs
+
+    from structure_fem.model.dynamics import dynamic_allowance_m
 
     packaged = json.loads(dc.PACKAGED.read_text())
     line = [e for e in packaged if e["structure"] == "line"]
-    assert line, "no packaged line allowance: regenerate with python -m structure_fem.runs"
+    assert line, "no packaged line allowance: regenerate with python -m structure_fem.outputs.runs"
     inp, _ = make_inputs(RunOptions())
     s = Structure("line")
     # the record's own (the others are the margins' range variants: other play, modulus, mass)
@@ -113,7 +114,7 @@ def test_the_packaged_allowances_are_the_current_models(tmp_path):
            == e["key"]]
     assert own, "no packaged line allowance is for the default record: regenerate"
     e = min(own, key=lambda e: e["width"])
-    from structure_fem.model import Config, solve
+    from structure_fem.model.statics import Config, solve
 
     static = solve(Config(s, e["rows"], int(e["width"]), int(e["width"])), inp.robot, inp.connectors, e["flexible"])
     fresh = dynamic_allowance_m(s, int(e["width"]), inp.robot, e["damping_ratio"], connectors=inp.connectors,
@@ -122,7 +123,7 @@ def test_the_packaged_allowances_are_the_current_models(tmp_path):
 
 
 def _jobs(robot, conn, widths=(1, 2)):
-    from structure_fem.study import StudyInputs, min_rows
+    from structure_fem.analysis.study import StudyInputs, min_rows
 
     inp = StudyInputs(robot, conn, clearance_m=0.015, max_width=4)
     out = []
@@ -135,7 +136,7 @@ def _jobs(robot, conn, widths=(1, 2)):
 def test_prefill_integrates_in_workers_what_a_direct_integration_gives(setup, monkeypatch):
     """Two transients integrated side by side in worker processes are then served from the
     cache (no integration here) and equal, bit for bit, the same integration in this process."""
-    from structure_fem import dynamics
+    from structure_fem.model.statics import dynamics
 
     robot, conn, cache = setup
     jobs = _jobs(robot, conn)
@@ -157,8 +158,8 @@ def test_prefill_integrates_in_workers_what_a_direct_integration_gives(setup, mo
 def test_a_transient_that_fails_in_a_worker_fails_at_once_for_the_caller(setup, monkeypatch):
     """A worker's SolverFailure is remembered: the caller's own call raises it (and counts the
     width as failing) without integrating it a second time."""
-    from structure_fem import dynamics
     from structure_fem.errors import SolverFailure
+    from structure_fem.model.statics import dynamics
 
     robot, conn, cache = setup
     jobs = _jobs(replace(robot, mass_kg=robot.mass_kg * 1.37), conn, (3, 4))

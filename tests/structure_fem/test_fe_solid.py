@@ -1,4 +1,4 @@
-"""Validation of the 3D linear-elastic FE toolkit (structure_fem.fe_solid) against closed forms.
+"""Validation of the 3D linear-elastic FE toolkit (structure_fem.couplings.fe_solid) against closed forms.
 
 Measured on this machine (P2 tetrahedra, E = 2.2 GPa, nu = 0.35), signed error vs the closed form:
 
@@ -23,7 +23,7 @@ import pytest
 pytest.importorskip("skfem")
 pytest.importorskip("gmsh")
 
-from structure_fem.fe_solid import (  # noqa: E402
+from structure_fem.couplings.fe_solid import (  # noqa: E402
     GmshSession,
     Load,
     cylinder_mesh,

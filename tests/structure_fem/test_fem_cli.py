@@ -152,7 +152,7 @@ def test_pipeline_stage_sets_limits_and_fem_dir(tmp_path, test_properties):
 
 
 def test_study_writes_plots_and_a_sensitivity_that_moves_the_right_way(tmp_path, test_properties):
-    from structure_fem.runs import RunOptions, run_study
+    from structure_fem.outputs.runs import RunOptions, run_study
 
     grid = (("connector stiffness", "x record", (0.5, 2.0)), ("clearance", "mm", (5.0, 20.0)))
     res = run_study(tmp_path, RunOptions(properties=str(test_properties), max_width=8, dynamic=False), grid=grid)
@@ -169,7 +169,7 @@ def test_the_sensitivity_grid_by_the_tables_criterion_on_request(tmp_path, test_
     """`fem study --sensitivity-dynamic`: each grid point's thresholds by static tip + its own launch
     allowance (never wider than by the static tip alone, and narrower somewhere: the allowance is
     real), the JSON says which criterion; the default grid stays static and says so."""
-    from structure_fem.runs import RunOptions, sensitivity
+    from structure_fem.outputs.runs import RunOptions, sensitivity
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     # at 10 mm the test robot's two lines span 4 by the static tip, 3 with their launch allowance
@@ -210,7 +210,7 @@ def test_the_hinge_model_is_a_choice_and_the_lumped_one_is_the_earlier_model(cli
     staggered arches lose the rails' tie, and the record says which model it derived with. Without the thesis's tapering arches
     (their widest widths do not converge under the emergent hinge and cost minutes of retries;
     they are not what this test is about)."""
-    import structure_fem.runs as runs
+    import structure_fem.outputs.runs as runs
 
     monkeypatch.setattr(runs, "tapered_arches", lambda d, thesis=None, progress=None: [])
 

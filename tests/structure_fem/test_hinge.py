@@ -10,12 +10,12 @@ import pytest
 
 from cubot_cad.errors import InputError
 from cubot_cad.properties import default_properties
-from structure_fem import hinge
-from structure_fem.connectors import ConnectorSet, Joint
+from structure_fem.model import hinge
+from structure_fem.model.connectors import ConnectorSet, Joint
 
 
 def _cubot():
-    from structure_fem.connector_sources import resolve
+    from structure_fem.couplings.connector_sources import resolve
 
     rec = next(r for r in default_properties().robots if r.name == "cubot")
     return resolve(rec)[0]
@@ -65,8 +65,8 @@ def test_one_sided_axes_bear_only_on_their_side():
 
 exudyn = pytest.importorskip("exudyn")
 
-from structure_fem.model import Config, solve_uncached  # noqa: E402
-from structure_fem.structures import Structure  # noqa: E402
+from structure_fem.model.statics import Config, solve_uncached  # noqa: E402
+from structure_fem.model.structures import Structure  # noqa: E402
 
 
 def _line(conn, robot, w=2, **kw):
@@ -146,7 +146,7 @@ def test_a_side_rail_slides_along_the_lines_with_the_emergent_hinge():
 
 
 def test_flexible_bodies_soften_the_rows_by_the_series_rule():
-    from structure_fem.bodies import body_bending, with_body_bending
+    from structure_fem.model.bodies import body_bending, with_body_bending
 
     robot = _cubot()
     conn = replace(ConnectorSet.from_robot(robot), hinge="emergent")

@@ -6,10 +6,10 @@ import pytest
 
 pytest.importorskip("exudyn")
 
-from structure_fem import margins  # noqa: E402
-from structure_fem.runs import RunOptions, make_inputs  # noqa: E402
-from structure_fem.structures import Structure  # noqa: E402
-from structure_fem.study import Derivation, structure_curve  # noqa: E402
+from structure_fem.analysis import margins  # noqa: E402
+from structure_fem.analysis.study import Derivation, structure_curve  # noqa: E402
+from structure_fem.model.structures import Structure  # noqa: E402
+from structure_fem.outputs.runs import RunOptions, make_inputs  # noqa: E402
 
 
 @pytest.fixture(scope="module")

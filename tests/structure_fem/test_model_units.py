@@ -8,10 +8,10 @@ import pytest
 
 pytest.importorskip("exudyn")
 
-from structure_fem.connectors import ConnectorSet, Joint, dead_band_moment  # noqa: E402
 from structure_fem.errors import InputError, SolverFailure  # noqa: E402
-from structure_fem.model import Config, SolverOptions, solve  # noqa: E402
-from structure_fem.structures import Structure, layout  # noqa: E402
+from structure_fem.model.connectors import ConnectorSet, Joint, dead_band_moment  # noqa: E402
+from structure_fem.model.statics import Config, SolverOptions, solve  # noqa: E402
+from structure_fem.model.structures import Structure, layout  # noqa: E402
 
 
 def test_dead_band_is_free_inside_and_linear_outside():
@@ -89,7 +89,7 @@ def test_backlash_adds_a_rigid_droop(make_robot, k):
     b w a: in all b a w (w + 3) / 2, independent of the spring stiffness."""
     from dataclasses import replace
 
-    from structure_fem.connectors import ConnectorSet
+    from structure_fem.model.connectors import ConnectorSet
 
     def lumped(r):  # the record's pitch dead band is the lumped hinge's (the emergent one has none)
         return replace(ConnectorSet.from_robot(r), hinge="lumped")

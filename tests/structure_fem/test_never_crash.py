@@ -38,7 +38,7 @@ pytest.importorskip("exudyn")
 from cubot_cad.properties import default_properties  # noqa: E402
 from structure_fem.errors import SolverFailure  # noqa: E402
 from structure_fem.limits import StructureLimits  # noqa: E402
-from structure_fem.structures import Structure  # noqa: E402
+from structure_fem.model.structures import Structure  # noqa: E402
 
 SHIPPED_ROBOTS = tuple(r.name for r in default_properties().robots)
 
@@ -74,8 +74,8 @@ def _assert_well_formed_table(out_dir, out: dict, max_width: int) -> None:
 def cheap_structures(monkeypatch):
     """Line, staggered two lines and the 4 x 2 arch only, no thesis tapering arches: the same
     code path with fewer structures (the full set is covered at 40 mm below)."""
-    import structure_fem.runs as runs
-    import structure_fem.study as study
+    import structure_fem.analysis.study as study
+    import structure_fem.outputs.runs as runs
 
     every = study.candidate_structures
 
@@ -184,7 +184,7 @@ def test_a_width_that_does_not_converge_is_a_warning_and_a_failing_width(cli, tm
     and one launch step of its 2-wide row. Width 3 counts as failing for the line (threshold 2,
     though its tip would pass), one warning line names the line and width 3, the JSON and the
     limits record say so; the launch step is left out of the row, which says so. Exit 0."""
-    import structure_fem.study as study
+    import structure_fem.analysis.study as study
 
     real = study.solve
 
@@ -218,7 +218,7 @@ def test_a_width_that_does_not_converge_is_a_warning_and_a_failing_width(cli, tm
 
 
 def test_solve_that_does_not_converge_says_so(cli, monkeypatch):
-    import structure_fem.model as model
+    import structure_fem.model.statics as model
 
     real = model.solve
 
@@ -237,7 +237,7 @@ def test_solve_that_does_not_converge_says_so(cli, monkeypatch):
 # --------------------------------------------------------------------------- the solver itself
 
 def _fine_plain():
-    from structure_fem.model import SolverOptions
+    from structure_fem.model.statics import SolverOptions
 
     return SolverOptions(smoothing_start=0.0, load_steps=1000, max_iterations=100)
 
@@ -246,7 +246,7 @@ FINE_PLAIN = _fine_plain()
 
 
 def _calibrated_cubot_inputs():
-    from structure_fem.runs import RunOptions, make_inputs
+    from structure_fem.outputs.runs import RunOptions, make_inputs
 
     inp, _ = make_inputs(RunOptions(connectors="calibrated", dynamic=False, hinge="lumped"))
     return inp
@@ -264,7 +264,7 @@ def test_root_cause_plain_gravity_ramp_stalls_and_the_smoothing_continuation_con
     state and the narrower-start one converges) converges on every one, to what a fine plain ramp
     finds (1000 steps: with the pins' vertical slip as a second band per joint, 100 steps no longer
     converge)."""
-    from structure_fem.model import Config, SolverOptions, _solve_once, solve
+    from structure_fem.model.statics import Config, SolverOptions, _solve_once, solve
 
     inp = _calibrated_cubot_inputs()
     stalled, matched = [], 0
@@ -297,8 +297,8 @@ def test_smoothing_continuation_does_not_change_a_converged_solution(cubot, stru
     w = 5 both stall since the supports sit at the wheel and caster contacts: it is checked at 4)."""
     from dataclasses import replace
 
-    from structure_fem.connectors import ConnectorSet
-    from structure_fem.model import Config, SolverOptions, _solve_once
+    from structure_fem.model.connectors import ConnectorSet
+    from structure_fem.model.statics import Config, SolverOptions, _solve_once
 
     conn = replace(ConnectorSet.from_robot(cubot), hinge="lumped")
     cfg = Config(structure, 2 * w + 1, w, w)
@@ -318,8 +318,8 @@ def test_emergent_hinge_state_does_not_depend_on_the_continuation_path(cubot, st
     relaxation: the same state (the smoothing is the model's at load factor 1)."""
     from dataclasses import replace
 
-    from structure_fem.connectors import ConnectorSet
-    from structure_fem.model import Config, SolverOptions, _solve_once
+    from structure_fem.model.connectors import ConnectorSet
+    from structure_fem.model.statics import Config, SolverOptions, _solve_once
 
     conn = replace(ConnectorSet.from_robot(cubot), hinge="emergent")
     cfg = Config(structure, 2 * w + 1, w, w)
@@ -332,9 +332,9 @@ def test_emergent_hinge_state_does_not_depend_on_the_continuation_path(cubot, st
 def _pier_line(cubot, rows, hinge, play=1.0, mass=1.0):
     from dataclasses import replace
 
-    from structure_fem.connectors import ConnectorSet
-    from structure_fem.model import Config
-    from structure_fem.piers import robot_pier
+    from structure_fem.analysis.piers import robot_pier
+    from structure_fem.model.connectors import ConnectorSet
+    from structure_fem.model.statics import Config
 
     robot = cubot.with_mass_scaled(mass) if mass != 1.0 else cubot
     conn = replace(ConnectorSet.from_robot(robot).scaled(1.0, play), hinge=hinge)
@@ -349,8 +349,8 @@ def test_a_structure_that_tips_is_reported_as_tipping_not_as_a_solver_failure(cu
     (the crossing states of the pier rule have no rigid pre-check) got a non-convergence. The solve
     now anchors the rear support, finds the anchor pulling, and reports the state with a tipping
     factor below 1; two more rows behind stand, and the anchor is not used."""
-    from structure_fem.model import SolverOptions, _flexible, _solve_once, solve_uncached
-    from structure_fem.structures import layout, rigid_tipping
+    from structure_fem.model.statics import SolverOptions, _flexible, _solve_once, solve_uncached
+    from structure_fem.model.structures import layout, rigid_tipping
 
     cfg, robot, conn = _pier_line(cubot, 20, hinge)
     lay = layout(cfg.structure, robot, conn, cfg.rows, cfg.rows_over, cfg.void_widths, piers=cfg.piers)
@@ -372,8 +372,8 @@ def test_a_line_one_row_short_of_standing_tips_and_never_jack_knifes(make_robot,
     each other (jack-knifed over the edge, tipping factor 1.94). A coupling turned more than
     ``MAX_JOINT_ROTATION_RAD`` is now a spurious state: the solve falls back to the anchored one,
     which reports the line as tipping, with every coupling turned by milliradians."""
-    from structure_fem.connectors import ConnectorSet
-    from structure_fem.model import MAX_JOINT_ROTATION_RAD, Config, solve_uncached
+    from structure_fem.model.connectors import ConnectorSet
+    from structure_fem.model.statics import MAX_JOINT_ROTATION_RAD, Config, solve_uncached
 
     robot = make_robot(mass=0.3, k=200.0, k_ax=2e5, backlash=0.002)
     conn = replace(ConnectorSet.from_robot(robot), hinge=hinge)
@@ -389,8 +389,8 @@ def test_an_anchored_solve_that_the_anchor_does_not_pull_is_the_free_solution(cu
     """When only the anchored solve converges and its rear support pushes, every one-sided contact
     is in compression: it is an equilibrium of the free structure, the same state (checked on a
     line the free solver does solve, with the free attempts made to fail)."""
-    import structure_fem.model as model
-    from structure_fem.connectors import ConnectorSet
+    import structure_fem.model.statics as model
+    from structure_fem.model.connectors import ConnectorSet
 
     conn = ConnectorSet.from_robot(cubot)
     cfg = model.Config(Structure("line"), 7, 3, 3)
@@ -413,7 +413,7 @@ def test_a_play_free_emergent_line_on_a_pier_converges(cubot):
     """x0 play, x0.5 mass, 21 rows over a 19-wide void on a pier at 8 (it stands): every retry
     failed while the faces' contacts were smoothed over their own (30x stiffer) stretch rather
     than the rows' (``hinge._contact_scale``)."""
-    from structure_fem.model import solve_uncached
+    from structure_fem.model.statics import solve_uncached
 
     cfg, robot, conn = _pier_line(cubot, 21, "emergent", play=0.0, mass=0.5)
     res = solve_uncached(cfg, robot, conn, flexible=True)
@@ -460,7 +460,7 @@ def test_the_default_dynamic_table_integrates_what_is_not_cached(cli, tmp_path, 
     """The default criterion (static tip + launch allowance) on inputs the packaged cache does
     not hold (3 mm clearance: short structures, cheap transients): exit 0, every threshold with
     its allowance, and a second run is served by the user cache (no integration)."""
-    import structure_fem.dynamics as dynamics
+    import structure_fem.model.dynamics as dynamics
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     res = cli("fem", "table", "--clearance-mm", "3", "--max-width", "8", "--out", str(tmp_path / "a"), "--json")

@@ -16,11 +16,11 @@ import pytest
 pytest.importorskip("skfem")
 pytest.importorskip("gmsh")
 
-from cubot_cad.octbot import OctBot, RingSpec  # noqa: E402
 from cubot_cad.properties import default_properties  # noqa: E402
-from structure_fem import connector_sources as cs  # noqa: E402
-from structure_fem import octbot_ring_fe as orf  # noqa: E402
-from structure_fem.connector_fe import Material  # noqa: E402
+from cubot_cad.robots.octbot import OctBot, RingSpec  # noqa: E402
+from structure_fem.couplings import connector_sources as cs  # noqa: E402
+from structure_fem.couplings import octbot_ring_fe as orf  # noqa: E402
+from structure_fem.couplings.connector_fe import Material  # noqa: E402
 from structure_fem.errors import InputError  # noqa: E402
 
 ABS = Material.from_cubot_cad("abs")

@@ -16,10 +16,7 @@ import pytest
 
 pytest.importorskip("exudyn")
 
-from structure_fem.errors import InputError  # noqa: E402
-from structure_fem.limits import PierRule, StructureLimits, load_limits, thesis_limits  # noqa: E402
-from structure_fem.model import Config, solve  # noqa: E402
-from structure_fem.piers import (  # noqa: E402
+from structure_fem.analysis.piers import (  # noqa: E402
     PierStudy,
     body_stiffness,
     derive,
@@ -28,9 +25,12 @@ from structure_fem.piers import (  # noqa: E402
     robot_pier,
     solve_piers,
 )
-from structure_fem.runs import RunOptions, make_inputs, with_piers  # noqa: E402
-from structure_fem.structures import Pier, Structure, layout  # noqa: E402
-from structure_fem.study import StudyInputs, min_rows  # noqa: E402
+from structure_fem.analysis.study import StudyInputs, min_rows  # noqa: E402
+from structure_fem.errors import InputError  # noqa: E402
+from structure_fem.limits import PierRule, StructureLimits, load_limits, thesis_limits  # noqa: E402
+from structure_fem.model.statics import Config, solve  # noqa: E402
+from structure_fem.model.structures import Pier, Structure, layout  # noqa: E402
+from structure_fem.outputs.runs import RunOptions, make_inputs, with_piers  # noqa: E402
 
 LINE = Structure("line")
 
@@ -73,7 +73,7 @@ def test_supports_sit_only_under_bodies_over_the_pier(inp):
     lay = layout(LINE, inp.robot, inp.connectors, 8, 7, 7, piers=(p,))
     on = [(lay.bodies[s.body].row, s.point_m[0]) for s in lay.supports if s.pier == 0]
     # the body over [3, 4] rests on its wheels and casters (the CuBot's: 12, 50 and 88 mm behind its front
-    # face, structure_fem.contacts); its neighbours only touch the pier's faces with their bodies
+    # face, structure_fem.model.contacts); its neighbours only touch the pier's faces with their bodies
     assert [row for row, _ in on] == [3, 3, 3] and [x for _, x in on] == pytest.approx([0.312, 0.35, 0.388])
     half = layout(LINE, inp.robot, inp.connectors, 8, 7, 7, piers=(dataclasses.replace(p, at_widths=2.5),))
     assert sorted(lay_row for lay_row in (half.bodies[s.body].row for s in half.supports if s.pier == 0)) == \
@@ -117,7 +117,7 @@ def test_every_state_of_the_crossing_passes_at_the_rule_counts(inp, base):
 def test_the_counting_rule_is_the_smallest_that_stands(inp, base):
     """Rows behind = o + margin stands rigidly about the far face for every derived overhang; one
     row fewer does not for some (the rule is not padded)."""
-    from structure_fem.structures import tipping_factor
+    from structure_fem.model.structures import tipping_factor
 
     rule = base.rule
     top = max(rule.overhang_widths)

@@ -15,13 +15,13 @@ import pytest
 pytest.importorskip("skfem")
 pytest.importorskip("gmsh")
 
-from cubot_cad.platform import TestPlatform  # noqa: E402
 from cubot_cad.properties import RobotPropertiesFile, default_properties, default_properties_path  # noqa: E402
-from structure_fem import connector_sources as cs  # noqa: E402
-from structure_fem import platform_bolt_fe as pb  # noqa: E402
-from structure_fem.connector_fe import Material  # noqa: E402
+from cubot_cad.robots.platform import TestPlatform  # noqa: E402
+from structure_fem.couplings import connector_sources as cs  # noqa: E402
+from structure_fem.couplings import platform_bolt_fe as pb  # noqa: E402
+from structure_fem.couplings.connector_fe import Material  # noqa: E402
+from structure_fem.couplings.fe_solid import Load, box_mesh, solve_linear_elastic  # noqa: E402
 from structure_fem.errors import InputError  # noqa: E402
-from structure_fem.fe_solid import Load, box_mesh, solve_linear_elastic  # noqa: E402
 
 ABS = Material.from_cubot_cad("abs")
 COARSE = pb.PlatformMesh(3.0, 10.0)
@@ -94,8 +94,8 @@ def test_resolve_uses_the_packaged_fe_of_the_bolt_by_its_hash(platform, tmp_path
 
 
 def test_the_calibration_report_carries_the_fe_beside_both_fits(tmp_path):
-    from structure_fem.calibration import calibrate
-    from structure_fem.docs_blocks import _calibration
+    from structure_fem.analysis.calibration import calibrate
+    from structure_fem.outputs.docs_blocks import _calibration
 
     cal = calibrate(RobotPropertiesFile.load(default_properties_path()), None, family_points=1,
                     cache_dir=tmp_path).to_dict()
@@ -121,7 +121,7 @@ def test_the_calibration_report_carries_the_fe_beside_both_fits(tmp_path):
 
 
 def test_a_record_the_fe_does_not_model_says_why_in_the_calibration():
-    from structure_fem.calibration import calibrate
+    from structure_fem.analysis.calibration import calibrate
 
     cal = calibrate(None, None, family_points=1).to_dict()  # the thesis platform's stated numbers
     assert cal["fe"]["available"] is False and "the CAD cannot rebuild the record's bolt" in cal["fe"]["why"]

@@ -10,10 +10,10 @@ import pytest
 pytest.importorskip("exudyn")
 
 from cubot_cad.properties import FeaturePlay, default_properties  # noqa: E402
-from structure_fem.connectors import ConnectorSet, band_force, joint_play  # noqa: E402
-from structure_fem.model import Config, SolverOptions, solve  # noqa: E402
-from structure_fem.structures import Structure  # noqa: E402
-from structure_fem.study import StudyInputs, structure_curve  # noqa: E402
+from structure_fem.analysis.study import StudyInputs, structure_curve  # noqa: E402
+from structure_fem.model.connectors import ConnectorSet, band_force, joint_play  # noqa: E402
+from structure_fem.model.statics import Config, SolverOptions, solve  # noqa: E402
+from structure_fem.model.structures import Structure  # noqa: E402
 
 
 def test_band_force_is_free_inside_the_play_and_a_spring_outside():
@@ -65,7 +65,7 @@ def test_a_tension_gap_lets_an_arch_sag_by_about_the_gap_over_its_height(make_ro
 
 
 def _cubot_at(clearance_mm):
-    from cubot_cad.cubot import CuBot
+    from cubot_cad.robots.cubot import CuBot
 
     rec = default_properties().get("cubot")
     gaps = {c.kind: c.gap_m * 1e3 for c in rec.connectors}

@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import pytest
 
-from structure_fem import connector_sources as cs
+from structure_fem.couplings import connector_sources as cs
 from structure_fem.errors import InputError
 
 
@@ -95,8 +95,8 @@ def test_the_twist_key_gets_its_own_horizontal_stiffness(cubot, no_fe):
     with pytest.raises(InputError, match="bore"):
         cs.key_horizontal_stiffness(E, 0.008, 0.009, 0.005)
     # the pier's key (vertical, in compression) is unchanged by it
-    from structure_fem.connectors import ConnectorSet
-    from structure_fem.piers import pier_stiffness
+    from structure_fem.analysis.piers import pier_stiffness
+    from structure_fem.model.connectors import ConnectorSet
 
     robot = cs.resolve(cubot, "fe", cache_dir=no_fe)[0]
     assert pier_stiffness(robot, ConnectorSet.from_robot(robot), 2).key_n_per_m == rec.axial_stiffness_n_per_m

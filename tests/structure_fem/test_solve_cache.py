@@ -8,10 +8,11 @@ import pytest
 
 pytest.importorskip("exudyn")
 
-from structure_fem import model, solve_cache  # noqa: E402
+from structure_fem import solve_cache
 from structure_fem.errors import SolverFailure  # noqa: E402
-from structure_fem.model import Config, solve  # noqa: E402
-from structure_fem.structures import Structure  # noqa: E402
+from structure_fem.model import statics as model  # noqa: E402
+from structure_fem.model.statics import Config, solve  # noqa: E402
+from structure_fem.model.structures import Structure  # noqa: E402
 
 
 @pytest.fixture
@@ -49,7 +50,7 @@ def test_every_input_is_in_the_key(counted, make_robot):
     solve(CFG, replace(robot, mass_kg=robot.mass_kg * 1.001))
     solve(CFG, robot, flexible=True)
     solve(CFG, robot, options=model.SolverOptions(load_steps=16))
-    from structure_fem.connectors import ConnectorSet
+    from structure_fem.model.connectors import ConnectorSet
 
     solve(CFG, robot, ConnectorSet.from_robot(robot).scaled(1.0, 1.01))
     assert len(counted) == 6

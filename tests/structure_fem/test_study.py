@@ -9,11 +9,17 @@ import pytest
 
 pytest.importorskip("exudyn")
 
-from structure_fem.calibration import MEASURED_TIP_M, calibrate, platform_from, platform_tip_m  # noqa: E402
+from structure_fem.outputs.outputs.runs import packaged_limits  # noqa: E402
+
+from structure_fem.analysis.calibration import (  # noqa: E402
+    MEASURED_TIP_M,
+    calibrate,
+    platform_from,
+    platform_tip_m,
+)
+from structure_fem.analysis.study import StudyInputs, derive, limits_from  # noqa: E402
 from structure_fem.limits import load_limits, packaged_limits_path  # noqa: E402
-from structure_fem.runs import packaged_limits  # noqa: E402
-from structure_fem.structures import GRAVITY  # noqa: E402
-from structure_fem.study import StudyInputs, derive, limits_from  # noqa: E402
+from structure_fem.model.structures import GRAVITY  # noqa: E402
 
 
 def _th(d) -> dict:
@@ -61,7 +67,7 @@ def test_heavier_robots_never_grow_a_threshold(base, base_robot):
 
 def test_threshold_is_the_widest_void_within_clearance(base):
     """Checked densely: every width up to the threshold passes, the next one fails."""
-    from structure_fem.study import structure_curve
+    from structure_fem.analysis.study import structure_curve
 
     clear = base.inputs.clearance_m * 1e3
     for c in base.curves:
@@ -92,7 +98,7 @@ def test_minimal_line_count_beats_the_thesis_rule_and_one_less_would_tip(base):
     """Thesis: N = 3 n_g (n_p = 2 n_g while launching). Tipping about the edge only needs n_p > n_g:
     a uniform line's rigid factor is (n_p / n_g)^2, so N_min = 2 w + 1 when the centre of mass is
     central; the solved factor of one row less must not exceed 1."""
-    from structure_fem.model import Config, solve
+    from structure_fem.model.statics import Config, solve
 
     c = base.curve("line")
     robot = base.inputs.robot
@@ -116,11 +122,11 @@ def test_aligned_two_lines_add_nothing_over_one_line(base):
 
 
 def test_packaged_limits_json_is_regenerated_from_the_packaged_properties():
-    """Fails when robot_properties.json or the model changed: run `python -m structure_fem.runs`."""
+    """Fails when robot_properties.json or the model changed: run `python -m structure_fem.outputs.outputs.runs`."""
     fresh = packaged_limits()
     shipped = json.loads(packaged_limits_path().read_text())
     assert json.loads(json.dumps(fresh.to_dict())) == shipped, (
-        "structure_fem/data/limits.json is stale: regenerate with `python -m structure_fem.runs`")
+        "structure_fem/data/limits.json is stale: regenerate with `python -m structure_fem.outputs.runs`")
     assert load_limits("derived").source == "derived"
 
 
@@ -128,8 +134,8 @@ def test_calibration_reproduces_the_measurement_and_the_closed_form():
     """Stiffness-only fit: five platforms, one held, four overhang joints. As in the rigid-link
     chain test (n = 4): tip = m g a^2 / (2 k) (n (n + 1) / 2)^2 + pin slip m g n (n + 1) / (2 k_ax)
     + the held platform's contact springs k_c, so k = m g a^2 100 / (2 (5 mm - slip - clamp))."""
-    from structure_fem.connectors import ConnectorSet
-    from structure_fem.model import CONTACT_N_PER_M
+    from structure_fem.model.connectors import ConnectorSet
+    from structure_fem.model.statics import CONTACT_N_PER_M
 
     cal = calibrate()
     plat = platform_from(None)

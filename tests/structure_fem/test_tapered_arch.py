@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import pytest
 
-from structure_fem.connectors import ConnectorSet
 from structure_fem.errors import InputError
 from structure_fem.limits import taper_half_level, tapered_arch_robots, thesis_limits
-from structure_fem.structures import Structure, layout
+from structure_fem.model.connectors import ConnectorSet
+from structure_fem.model.structures import Structure, layout
 
 
 def _tapered(k: int, b: int) -> Structure:
@@ -82,7 +82,7 @@ def exu():
 
 
 def test_tapered_arch_deflects_less_than_its_bare_core(exu, make_robot):
-    from structure_fem.model import Config, solve
+    from structure_fem.model.statics import Config, solve
 
     robot = make_robot(k=200.0, backlash=0.002)
     conn = ConnectorSet.from_robot(robot)
@@ -96,7 +96,7 @@ def test_tapered_arch_deflects_less_than_its_bare_core(exu, make_robot):
 
 
 def test_stiffer_connectors_lower_the_tapered_arch_deflection(exu, make_robot):
-    from structure_fem.study import StudyInputs, tapered_point
+    from structure_fem.analysis.study import StudyInputs, tapered_point
 
     robot = make_robot(k=200.0, backlash=0.002)
     s = _tapered(3, 2)
@@ -109,7 +109,12 @@ def test_stiffer_connectors_lower_the_tapered_arch_deflection(exu, make_robot):
 
 
 def test_table_evaluates_every_width_of_the_thesis_bands(exu, make_robot):
-    from structure_fem.study import Derivation, StudyInputs, tapered_arches, tapered_verdict
+    from structure_fem.analysis.study import (
+        Derivation,
+        StudyInputs,
+        tapered_arches,
+        tapered_verdict,
+    )
 
     inp = StudyInputs.for_robot(make_robot(k=200.0, backlash=0.002))
     rows = tapered_arches(Derivation(inp, [], []))  # no derived structures: uniform columns empty
@@ -137,8 +142,13 @@ def test_once_a_tapering_arch_hangs_into_the_void_wider_voids_are_collapsed_not_
 
     import numpy as np
 
-    import structure_fem.study as study
-    from structure_fem.study import COLLAPSE_ROTATION_RAD, Derivation, StudyInputs, tapered_arches
+    import structure_fem.analysis.study as study
+    from structure_fem.analysis.study import (
+        COLLAPSE_ROTATION_RAD,
+        Derivation,
+        StudyInputs,
+        tapered_arches,
+    )
 
     calls = []
 

@@ -10,11 +10,11 @@ import pytest
 
 pytest.importorskip("exudyn")
 
-from structure_fem.beams import cantilever_tip, eq71_line_tip, eq71_tip  # noqa: E402
-from structure_fem.connectors import ConnectorSet  # noqa: E402
-from structure_fem.hinge import FACE_CONTACT_FACTOR  # noqa: E402
-from structure_fem.model import Config, SolverOptions, solve  # noqa: E402
-from structure_fem.structures import GRAVITY, Structure  # noqa: E402
+from structure_fem.model.beams import cantilever_tip, eq71_line_tip, eq71_tip  # noqa: E402
+from structure_fem.model.connectors import ConnectorSet  # noqa: E402
+from structure_fem.model.hinge import FACE_CONTACT_FACTOR  # noqa: E402
+from structure_fem.model.statics import Config, SolverOptions, solve  # noqa: E402
+from structure_fem.model.structures import GRAVITY, Structure  # noqa: E402
 
 
 def test_continuum_cantilever_matches_w_L4_over_8EI():
@@ -65,7 +65,7 @@ def test_rigid_link_chain_matches_closed_form(n, supports, hinge, make_robot):
     tip (x = n a) by delta_clamp = u + phi n a. (For the corners: F_front = V + m g / 2 + M / a,
     F_rear = m g / 2 - M / a, delta_clamp = [F_front + n (F_front - F_rear)] / k_c.)
 
-    With the emergent hinge (:mod:`structure_fem.hinge`) the spring k is the tension row (of
+    With the emergent hinge (:mod:`structure_fem.model.hinge`) the spring k is the tension row (of
     k_ax at lever a_e = sqrt(k / k_ax) above the bottom edge) and the bottom face contact
     (``FACE_CONTACT_FACTOR`` k_ax) in series: a moment M pulls the row by M / a_e and presses the
     contact as much, so theta = M / k (1 + 1 / FACE_CONTACT_FACTOR). Without play its one-sided
@@ -188,7 +188,7 @@ def test_beam_element_robots_vs_rigid_and_lumped_flexible(make_robot, k):
     the joints (Eq. 7.1's point): the beam model is within 2 % of the rigid one. With joints 100x
     stiffer the bodies' bending shows, and the lumped option stays on the safe side of the beam
     model (it puts the bodies' compliance at the joints' larger moment) within 15 %."""
-    from structure_fem.beams import flexible_line_tip
+    from structure_fem.model.beams import flexible_line_tip
 
     robot = make_robot(k=k, k_ax=1e9)
     conn = replace(ConnectorSet.from_robot(robot), hinge="lumped")  # the beam model's rotational joints

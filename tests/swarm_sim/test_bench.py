@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from swarm_sim.bench import _setup
+from swarm_sim.experiments.bench import _setup
 from swarm_sim.step import step
 
 
@@ -27,8 +27,8 @@ def test_thesis_workload_rate_as_a_ratio_to_the_exploration_rate(benchmark):
     """Issue 14: the real workload (bridge runs of 8-70 robots to their end) with both engines in
     one call, and against the exploration rate measured in the same call; the speed-up and the
     ratio are reported, not asserted; that both engines gave the same runs is asserted."""
-    from swarm_sim.bench import THESIS_WORKLOAD, workload_bench
     from swarm_sim.compiled import AVAILABLE
+    from swarm_sim.experiments.bench import THESIS_WORKLOAD, workload_bench
 
     rep = benchmark.pedantic(workload_bench, kwargs={"seeds": 2}, rounds=1, iterations=1)
     keys = ("us_per_step", "robot_steps_per_s", "ratio_to_exploration", "cpu_s_per_run", "speedup_vs_reference",
@@ -44,8 +44,8 @@ def test_thesis_workload_rate_as_a_ratio_to_the_exploration_rate(benchmark):
 
 
 def test_thesis_workload_refuses_a_bad_seed_count():
-    from swarm_sim.bench import workload_bench
     from swarm_sim.errors import InputError
+    from swarm_sim.experiments.bench import workload_bench
 
     with pytest.raises(InputError, match="--seeds"):
         workload_bench(0)
@@ -54,7 +54,7 @@ def test_thesis_workload_refuses_a_bad_seed_count():
 def test_every_case_of_the_thesis_workload_is_valid_input_under_its_limits():
     """The bench's mix must run whatever the packaged derived record says: each case resolves
     (the large void's 8 widths under the derived emergent record would be refused)."""
-    from swarm_sim.bench import THESIS_WORKLOAD
+    from swarm_sim.experiments.bench import THESIS_WORKLOAD
     from swarm_sim.runner import resolve_params
 
     for preset, robots, width, limits in THESIS_WORKLOAD:

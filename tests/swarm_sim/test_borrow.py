@@ -1,10 +1,10 @@
-"""A borrowed view (swarm_sim.borrow) is the array's own data, shape and strides, with no
+"""A borrowed view (swarm_sim.engine.borrow) is the array's own data, shape and strides, with no
 memory-info pointer, so the compiled calls it is passed to count no references."""
 
 import numpy as np
 import pytest
 
-from swarm_sim.grid import HAVE_NUMBA
+from swarm_sim.engine.grid import HAVE_NUMBA
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="numba not installed")
 
@@ -14,7 +14,7 @@ if HAVE_NUMBA:
     from numba.extending import intrinsic
     from numba.np.arrayobj import make_array
 
-    from swarm_sim.borrow import borrowed
+    from swarm_sim.engine.borrow import borrowed
 
     @intrinsic
     def _meminfo_is_null(typingctx, arr):

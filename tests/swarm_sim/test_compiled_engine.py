@@ -90,7 +90,7 @@ def test_the_kernels_own_neighbour_list_grows_when_full_and_the_run_is_the_same(
     how far robots can have moved: compiled.KERNEL_SKIN_CM). Started with room for 8 pairs, it
     must grow (stop reason ``verlet_grow``, then go on) and the run must be the reference's, in
     a crowd: 40 robots on case D's ground, the structure's members close together."""
-    from swarm_sim import grid
+    from swarm_sim.engine import grid
 
     p = resolve_params("case-d", 40, 3, "thesis", 90.0)
     monkeypatch.setattr(grid, "_WORKSPACES", {})  # (the table is cleared when it holds many)
@@ -265,14 +265,14 @@ def test_the_cheap_norm_comparison_answers_as_the_exact_norm_does():
 
 @pytest.mark.parametrize("preset,n,w", [("case-d", 9, 3), ("case-a", 8, 2), ("large-void", 70, 8)])
 def test_compiled_dijkstra_is_scipys_bit_for_bit(preset, n, w):
-    """navigation.cost_field's compiled search (swarm_sim.dijkstra) against scipy's on random
+    """navigation.cost_field's compiled search (swarm_sim.engine.dijkstra) against scipy's on random
     closed cells: the same distances and the same predecessors (ties included)."""
     from scipy.sparse import csr_matrix
     from scipy.sparse.csgraph import dijkstra
 
-    from swarm_sim import navigation as N
-    from swarm_sim.dijkstra import dijkstra_grid
-    from swarm_sim.world import World
+    from swarm_sim.engine import navigation as N
+    from swarm_sim.engine.dijkstra import dijkstra_grid
+    from swarm_sim.engine.world import World
 
     g = N.nav_grid(World.from_params(resolve_params(preset, n, w, "thesis")))
     cells = g.nx * g.ny
@@ -298,8 +298,8 @@ def test_a_goal_where_the_static_grid_is_blocked_is_scipys_too(monkeypatch):
     """A staging or approach point next to a wall (its cell blocked in the static grid, opened for
     the goal and joined to its open neighbours): the compiled search gives the scipy path's
     field bit for bit, so neither engine falls back to building a sparse matrix per call."""
-    from swarm_sim import navigation as N
-    from swarm_sim.world import World
+    from swarm_sim.engine import navigation as N
+    from swarm_sim.engine.world import World
 
     world = World.from_params(resolve_params("large-void", 70, 8, "thesis"))  # the arena, any record
     g = N.nav_grid(world)
@@ -347,7 +347,7 @@ def test_cli_engine_flag_gives_the_same_run_and_a_bad_name_is_one_error_line(cli
 def test_random_soak_draws_are_the_same():
     """A few of ``sim soak``'s random draws (any preset, either limit set, random arenas, obstacles
     near the edges, line/auto structures), half with the invariants checked."""
-    from swarm_sim.soak import LIMITS, draw
+    from swarm_sim.experiments.soak import LIMITS, draw
 
     rng = np.random.default_rng(2026)
     ran = 0
@@ -366,9 +366,9 @@ def test_random_soak_draws_are_the_same():
 
 @pytest.mark.parametrize("nx,ny", [(2, 3), (1, 4), (5, 1), (4, 4)])
 def test_the_grid_graph_holds_every_edge_both_ways_and_nothing_else(nx, ny):
-    """swarm_sim.dijkstra.grid_graph on narrow grids (where index offsets alone would be
+    """swarm_sim.engine.dijkstra.grid_graph on narrow grids (where index offsets alone would be
     ambiguous): cell a has direction k exactly when an edge joins a to a + off[k]."""
-    from swarm_sim.dijkstra import DIRECTIONS, grid_graph
+    from swarm_sim.engine.dijkstra import DIRECTIONS, grid_graph
 
     rng = np.random.default_rng(nx * 10 + ny)
     pairs = []

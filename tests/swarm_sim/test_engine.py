@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from swarm_sim.grid import HAVE_NUMBA, blocked_ahead
+from swarm_sim.engine.grid import HAVE_NUMBA, blocked_ahead
+from swarm_sim.engine.world import World
 from swarm_sim.invariants import violations
 from swarm_sim.runner import init_state, resolve_params, run_scenario, simulate
 from swarm_sim.state import Mode, thesis_state
-from swarm_sim.world import World
 
 
 def brute(x, y, h, r):
@@ -81,7 +81,7 @@ def test_run_result_contract_is_json_and_picklable():
 def test_verlet_list_kernel_matches_the_exact_numpy_grid_on_a_crowd():
     """The numba walk uses a cached neighbour (Verlet) list rebuilt only when some robot has
     moved half the skin; the numpy walk queries the grid afresh every step. Same run."""
-    from swarm_sim.bench import _setup
+    from swarm_sim.experiments.bench import _setup
     from swarm_sim.step import step
 
     p, world, rng_a, sa = _setup(3000, 4, 0.05)

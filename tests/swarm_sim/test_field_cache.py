@@ -1,4 +1,4 @@
-"""Cost fields shared by contents (swarm_sim.field_cache): runs with the by-contents table are the
+"""Cost fields shared by contents (swarm_sim.engine.field_cache): runs with the by-contents table are the
 runs without it, event for event, and the table is used (it answers recruitments that closed
 the same cells under another name)."""
 
@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from structure_fem.limits import load_limits
-from swarm_sim import navigation as N
-from swarm_sim.field_cache import FieldCache, contents_key
+from swarm_sim.engine import navigation as N
+from swarm_sim.engine.field_cache import FieldCache, contents_key
+from swarm_sim.engine.world import World
 from swarm_sim.runner import resolve_params, simulate
-from swarm_sim.world import World
 
 
 def _run(monkeypatch, cache: FieldCache, preset, n, w, limits, seed, engine):

@@ -1,4 +1,4 @@
-"""Cost fields are settled lazily (swarm_sim.navigation.CostField): every answer is the one the
+"""Cost fields are settled lazily (swarm_sim.engine.navigation.CostField): every answer is the one the
 whole Dijkstra search gives, and whole runs are the runs with whole fields, bit for bit."""
 
 import math
@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from swarm_sim import navigation as N
-from swarm_sim.grid import HAVE_NUMBA
+from swarm_sim.engine import navigation as N
+from swarm_sim.engine.grid import HAVE_NUMBA
+from swarm_sim.engine.world import World
 from swarm_sim.runner import resolve_params, simulate
-from swarm_sim.world import World
 
 pytestmark = pytest.mark.skipif(not HAVE_NUMBA, reason="lazy fields are the compiled search's (numba)")
 
@@ -122,7 +122,7 @@ def test_the_compiled_floor_division_is_pythons_even_where_the_quotient_rounds_t
     rounds to a whole number but the true quotient is just below it, negatives and zero."""
     import numba
 
-    from swarm_sim.navigation import _floor_div
+    from swarm_sim.engine.navigation import _floor_div
 
     @numba.njit
     def fdiv(xs, c, out):

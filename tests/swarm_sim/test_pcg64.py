@@ -1,10 +1,10 @@
-"""The compiled engine's in-kernel stream (swarm_sim.pcg64) is numpy's Generator.random(), bit for bit."""
+"""The compiled engine's in-kernel stream (swarm_sim.engine.pcg64) is numpy's Generator.random(), bit for bit."""
 
 import numpy as np
 import pytest
 
-from swarm_sim import pcg64
-from swarm_sim.grid import HAVE_NUMBA
+from swarm_sim.engine import pcg64
+from swarm_sim.engine.grid import HAVE_NUMBA
 
 
 @pytest.mark.parametrize("seed", [0, 1, 1000, 2**32 + 7, 2**63 + 12345])
@@ -52,8 +52,8 @@ def test_store_keeps_the_32_bit_buffer_and_words_round_trip():
 @pytest.mark.skipif(not HAVE_NUMBA, reason="numba not installed")
 def test_a_generator_that_is_not_pcg64_gets_reference_steps_and_the_same_run():
     from swarm_sim import compiled
+    from swarm_sim.engine.world import World
     from swarm_sim.runner import init_state, resolve_params
-    from swarm_sim.world import World
 
     p = resolve_params("case-d", 3, 1, "thesis", 5.0)
     world = World.from_params(p)

@@ -5,10 +5,10 @@ import dataclasses
 import pytest
 
 from structure_fem.limits import load_limits
+from swarm_sim.behaviour.rule import robots_per_pier
 from swarm_sim.errors import InputError
 from swarm_sim.params import load_preset, with_overrides
 from swarm_sim.resolve import with_limits
-from swarm_sim.rule import robots_per_pier
 from swarm_sim.runner import resolve_params, run_scenario, simulate
 
 

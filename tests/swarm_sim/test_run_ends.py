@@ -13,16 +13,16 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from swarm_sim import recruitment as RC
-from swarm_sim import retreat as RT
-from swarm_sim.navigation import cost_field, nav_grid
+from swarm_sim.behaviour import recruitment as RC
+from swarm_sim.behaviour import retreat as RT
+from swarm_sim.engine.navigation import cost_field, nav_grid
+from swarm_sim.engine.tick import Tick
+from swarm_sim.engine.world import World
+from swarm_sim.experiments.soak import _one, soak
 from swarm_sim.params import preset_names
 from swarm_sim.runner import resolve_params, run_scenario, simulate
-from swarm_sim.soak import _one, soak
 from swarm_sim.state import Mode, Structure, new_state
 from swarm_sim.step import decide, watch
-from swarm_sim.tick import Tick
-from swarm_sim.world import World
 
 
 def ended(res) -> bool:
@@ -258,8 +258,8 @@ def test_a_walker_between_a_wall_and_a_post_finishes_its_avoidance_turn_and_gets
     20 cm above a post turned by exactly turn_max = 90 deg every step, the avoidance goal
     redrawn each step, cycling four headings that all faced the wall or the post. Finishing
     the turn once begun breaks the lattice: from every heading it gets clear within 60 s."""
-    from swarm_sim.explore import walk
-    from swarm_sim.grid import HAVE_NUMBA
+    from swarm_sim.behaviour.explore import walk
+    from swarm_sim.engine.grid import HAVE_NUMBA
 
     if use_numba and not HAVE_NUMBA:
         pytest.skip("numba not installed")
@@ -279,14 +279,14 @@ def test_a_walker_between_a_wall_and_a_post_finishes_its_avoidance_turn_and_gets
 
 
 def test_the_walk_is_the_same_with_and_without_numba_through_avoidance_turns():
-    from swarm_sim.explore import walk
-    from swarm_sim.grid import HAVE_NUMBA
+    from swarm_sim.behaviour.explore import walk
+    from swarm_sim.engine.grid import HAVE_NUMBA
 
     if not HAVE_NUMBA:
         pytest.skip("numba not installed")
     p = resolve_params("case-d", 40, 3, "derived", obstacles=((100.0, 60.0, 8.0), (60.0, 150.0, 6.0)))
     world = World.from_params(p)
-    from swarm_sim.explore import AVOIDING
+    from swarm_sim.behaviour.explore import AVOIDING
     from swarm_sim.runner import init_state
 
     s = init_state(p, np.random.default_rng(4))
@@ -355,7 +355,7 @@ def test_a_journal_that_is_not_a_soaks_is_refused_and_left_alone(tmp_path):
 def test_a_journal_records_which_code_ran_each_session(tmp_path):
     import json
 
-    from swarm_sim.soak import code_version
+    from swarm_sim.experiments.soak import code_version
 
     j = tmp_path / "s.jsonl"
     rep = soak(2, seed=5, max_time_s=5.0, journal=j)

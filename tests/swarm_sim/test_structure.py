@@ -6,8 +6,8 @@ from dataclasses import replace
 
 import pytest
 
-from swarm_sim import rule as R
-from swarm_sim import structure as S
+from swarm_sim.behaviour import rule as R
+from swarm_sim.behaviour import structure as S
 from swarm_sim.params import Params
 from swarm_sim.state import Structure
 

@@ -10,9 +10,9 @@ from __future__ import annotations
 import pytest
 
 from structure_fem.limits import StructureLevel, StructureLimits
+from swarm_sim.behaviour.structure import open_columns, widened
 from swarm_sim.runner import construction_times, resolve_params, run_scenario
 from swarm_sim.state import OPEN, Structure
-from swarm_sim.structure import open_columns, widened
 
 
 def limits_file(path, levels):

@@ -11,7 +11,7 @@ from structure_fem.limits import (
     taper_half_level,
     tapered_arch_robots,
 )
-from swarm_sim import taper as T
+from swarm_sim.behaviour import taper as T
 from swarm_sim.errors import InputError
 from swarm_sim.runner import resolve_params, run_scenario, simulate
 from swarm_sim.state import OPEN, Mode

@@ -86,7 +86,7 @@ def _bar(items, desc, total):
 
 
 def _docked(robots, clearance, settings=()):
-    from cubot_cad.docking import dock, pairs_for
+    from cubot_cad.checks.docking import dock, pairs_for
 
     names = pairs_for(robots)
     pairs = []
@@ -98,13 +98,13 @@ def _docked(robots, clearance, settings=()):
 def do_export(out: Path, robots, formats, material: str, clearance: float, with_dock: bool = True,
               packaged_default: bool = False, settings: tuple = (), slice_parts: bool = False) -> dict:
     """Dock, check and export; all or nothing (a failing docked pair is an InputError, exit 2,
-    and nothing is written: see :mod:`cubot_cad.export`). ``settings``: ``--set`` dimensions;
+    and nothing is written: see :mod:`cubot_cad.outputs.export`). ``settings``: ``--set`` dimensions;
     ``slice_parts``: slice every STL with its recorded settings into the manifest (``--slice``)."""
     from cubot_cad.errors import InputError
-    from cubot_cad.export import export_robots
+    from cubot_cad.outputs.export import export_robots
     from cubot_cad.part import check_clearance
     from cubot_cad.part import material as mat
-    from cubot_cad.registry import ROBOT_NAMES, make_robot
+    from cubot_cad.robots.registry import ROBOT_NAMES, make_robot
     from cubot_cad.settings import settings_text
 
     check_clearance(clearance, "--clearance-mm")
@@ -123,7 +123,7 @@ def do_export(out: Path, robots, formats, material: str, clearance: float, with_
     pairs = _docked(robots, clearance, settings) if with_dock else None
     stack = _stack_fields(robots, clearance, pairs, settings)  # before anything is written
     if slice_parts:
-        from cubot_cad.slicing import slicer_path
+        from cubot_cad.checks.slicing import slicer_path
 
         if slicer_path() is None:
             raise InputError("--slice needs prusa-slicer on PATH (Debian: apt-get install prusa-slicer)")
@@ -132,7 +132,7 @@ def do_export(out: Path, robots, formats, material: str, clearance: float, with_
     res = export_robots(robots, out, formats, material, clearance, progress=_bar, pairs=pairs, settings=settings,
                         slice_parts=slice_parts)
     if stack:
-        from cubot_cad.pier import add_record_fields
+        from cubot_cad.piers.pier import add_record_fields
 
         add_record_fields(res.properties, stack)
     summary = [p.summary() for p in pairs or []]
@@ -160,8 +160,8 @@ def _stack_fields(robots, clearance: float, pairs, settings: tuple = ()) -> dict
     height from the measured docked pair and the docked deck, or the designed ones when the export
     runs without docking. (``export_robots`` writes the same fields; computed here first, before
     anything is written.)"""
-    from cubot_cad.pier import stack_fields
-    from cubot_cad.registry import make_robot
+    from cubot_cad.piers.pier import stack_fields
+    from cubot_cad.robots.registry import make_robot
 
     out = {}
     for name in robots:
@@ -172,9 +172,9 @@ def _stack_fields(robots, clearance: float, pairs, settings: tuple = ()) -> dict
 
 
 def run_export(args) -> int:
-    from cubot_cad.export import parse_formats
+    from cubot_cad.outputs.export import parse_formats
     from cubot_cad.part import check_clearance, material
-    from cubot_cad.registry import parse_robots
+    from cubot_cad.robots.registry import parse_robots
     from cubot_cad.settings import settings_text
 
     robots = parse_robots(args.robot)
@@ -205,10 +205,10 @@ def run_export(args) -> int:
 
 
 def run_dock(args) -> int:
-    from cubot_cad.docking import PAIRS, ROBOT_OF_PAIR, dock
+    from cubot_cad.checks.docking import PAIRS, ROBOT_OF_PAIR, dock
     from cubot_cad.errors import InputError
     from cubot_cad.part import check_clearance
-    from cubot_cad.registry import make_robot
+    from cubot_cad.robots.registry import make_robot
 
     names = PAIRS if args.pair == "all" else tuple(p.strip() for p in args.pair.split(","))
     for n in names:
@@ -225,7 +225,7 @@ def run_dock(args) -> int:
     rows = [p.summary() for p in pairs]
     captures = {}
     if not args.no_capture:
-        from cubot_cad.capture import measure
+        from cubot_cad.checks.capture import measure
 
         for p, row in zip(progress(pairs, "capture", len(pairs)), rows, strict=True):
             cap = measure(make_robot(ROBOT_OF_PAIR[p.name], args.clearance_mm, settings), p.name, p)
@@ -274,8 +274,8 @@ def run_check(args) -> int:
                              "check fresh parts, not both")
         import tempfile
 
-        from cubot_cad.export import export_robots
-        from cubot_cad.registry import make_robot, parse_robots
+        from cubot_cad.outputs.export import export_robots
+        from cubot_cad.robots.registry import make_robot, parse_robots
 
         robots = parse_robots(args.robot or "all")
         settings = _resolve(args, robots)
@@ -297,7 +297,7 @@ def run_check(args) -> int:
 
 
 def _check_dir(args, root: Path, built) -> int:
-    from cubot_cad.check import check_file, slicer_path, stl_files
+    from cubot_cad.checks.check import check_file, slicer_path, stl_files
     from cubot_cad.errors import InputError
 
     files = stl_files(root)
@@ -347,8 +347,8 @@ def _check_dir(args, root: Path, built) -> int:
         lines.append(f"{'ok  ' if r.ok else 'FAIL'} {r.file}: wall >= {r.thinnest_wall_mm} mm, "
                      f"size {r.size_mm} mm{sliced}" + (f" [{'; '.join(flags)}]" if flags else ""))
     if slicer and do_slice:  # per robot: print time, filament, printed vs solid-model mass
-        from cubot_cad.check import slicing_totals
-        from cubot_cad.slicing import duration_text
+        from cubot_cad.checks.check import slicing_totals
+        from cubot_cad.checks.slicing import duration_text
 
         totals = slicing_totals(results, root)
         payload["slicing_totals"] = totals
@@ -368,10 +368,10 @@ def _check_dir(args, root: Path, built) -> int:
 
 
 def run_render(args) -> int:
-    from cubot_cad.docking import dock, pairs_for
+    from cubot_cad.checks.docking import dock, pairs_for
+    from cubot_cad.outputs.render import render_bridge, render_pair, render_robot
     from cubot_cad.part import check_clearance
-    from cubot_cad.registry import make_robot, parse_robots
-    from cubot_cad.render import render_bridge, render_pair, render_robot
+    from cubot_cad.robots.registry import make_robot, parse_robots
 
     robots = parse_robots(args.robot)
     settings = _resolve(args, robots)
@@ -383,11 +383,11 @@ def run_render(args) -> int:
     written = []
     jobs = [("robot", r) for r in robots] + ([("pair", p) for p in pairs_for(robots)] if not args.no_pairs else [])
     if args.exploded:
-        from cubot_cad.exploded import PLANS
+        from cubot_cad.outputs.exploded import PLANS
 
         jobs += [("exploded", r) for r in robots if r in PLANS]
     if "cubot" in robots and not args.no_pairs:
-        from cubot_cad.gltf import BRIDGE_NAME
+        from cubot_cad.outputs.gltf import BRIDGE_NAME
 
         jobs.append(("bridge", BRIDGE_NAME))
     for kind, name in progress(jobs, "render", len(jobs)):
@@ -395,7 +395,7 @@ def run_render(args) -> int:
             if kind == "robot":
                 written.append(str(render_robot(make_robot(name, args.clearance_mm, settings), t / f"{name}.png")))
             elif kind == "exploded":
-                from cubot_cad.exploded import exploded_view
+                from cubot_cad.outputs.exploded import exploded_view
 
                 written.append(str(exploded_view(make_robot(name, args.clearance_mm, settings),
                                                  t / f"{name}-exploded.png")))
@@ -413,10 +413,10 @@ def run_pier(args) -> int:
     """A pier of ``--robots`` CuBots stacked top-down: its numbers and checks, printed (or JSON),
     written with a STEP and a GLB of the column to ``--out``; exit 1 when a check fails."""
     from cubot_cad.atomic import write_json, write_via
-    from cubot_cad.gltf import write_glb
+    from cubot_cad.outputs.gltf import write_glb
     from cubot_cad.part import check_clearance
-    from cubot_cad.pier import PierColumn, check_lean, check_robots
-    from cubot_cad.registry import make_robot
+    from cubot_cad.piers.pier import PierColumn, check_lean, check_robots
+    from cubot_cad.robots.registry import make_robot
 
     k = check_robots(args.robots, "--robots")
     lean = check_lean(args.lean_deg, "--lean-deg")
@@ -520,14 +520,14 @@ PIPELINE_RENDERS = ("cubot", "octbot", "cube-robot", "platform")
 
 def pipeline_renders(out: Path, clearance: float = 0.2, robots=PIPELINE_RENDERS) -> list[str]:
     """PNGs of the robots and of the CuBot bridge into ``out/img`` (the `cad render` code path)."""
-    from cubot_cad.docking import dock
-    from cubot_cad.registry import make_robot
-    from cubot_cad.render import render_bridge, render_robot
+    from cubot_cad.checks.docking import dock
+    from cubot_cad.outputs.render import render_bridge, render_robot
+    from cubot_cad.robots.registry import make_robot
 
     img = Path(out) / "img"
     written = [str(render_robot(make_robot(name, clearance), img / f"{name}.png")) for name in robots]
     if "cubot" in robots:
-        from cubot_cad.gltf import BRIDGE_NAME
+        from cubot_cad.outputs.gltf import BRIDGE_NAME
 
         written.append(str(render_bridge(make_robot("cubot", clearance), dock("cubot-front-rear", clearance),
                                          img / f"{BRIDGE_NAME}.png")))
@@ -544,9 +544,9 @@ def pipeline_stage(out: Path, ctx: dict) -> str:
     except ImportError as exc:
         raise StageUnavailable(f"cadquery/trimesh/manifold3d not installed ({exc.name}); "
                                "using the packaged robot_properties.json") from None
-    from cubot_cad.export import DEFAULT_FORMATS
-    from cubot_cad.registry import ROBOT_NAMES
-    from cubot_cad.slicing import slicer_path
+    from cubot_cad.checks.slicing import slicer_path
+    from cubot_cad.outputs.export import DEFAULT_FORMATS
+    from cubot_cad.robots.registry import ROBOT_NAMES
 
     out = Path(out)
     # sliced as the packaged record is (each part's mass the slicer's grams at its print settings),
@@ -617,7 +617,7 @@ def register(sub, common) -> None:
     d = csub.add_parser("dock", parents=[common], help="docked pairs: gap, interference and capture range of every coupling",
                         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     add_common(d, robot=False)
-    d.add_argument("--pair", default="all", help="pair name(s) or all (see cubot_cad.docking.PAIRS)")
+    d.add_argument("--pair", default="all", help="pair name(s) or all (see cubot_cad.checks.docking.PAIRS)")
     d.add_argument("--out", default=None, help="also write docked_pairs.json (and --step assemblies) here")
     d.add_argument("--step", action="store_true", help="with --out: a STEP assembly per pair")
     d.add_argument("--no-capture", action="store_true",

@@ -92,7 +92,7 @@ MAX_CLEARANCE_MM = 100.0  # more than a robot's height (CuBot 85 mm): not a clim
 
 
 def _opts(args):
-    from structure_fem.runs import RunOptions
+    from structure_fem.outputs.runs import RunOptions
     from voidcross.output import check_float
 
     for opt, (lo, hi, lo_open) in SCALE_BOUNDS.items():
@@ -125,7 +125,7 @@ def _warn(res: dict) -> None:
 
 
 def run_table(args) -> int:
-    from structure_fem.runs import run_table as _run
+    from structure_fem.outputs.runs import run_table as _run
 
     out = out_dir(args.out, "--out", create=False)  # checked before the 30 s of solving
     if args.docs:
@@ -202,7 +202,7 @@ def _tapered_line(t: dict | None) -> str:
 
 
 def run_study(args) -> int:
-    from structure_fem.runs import run_study as _run
+    from structure_fem.outputs.runs import run_study as _run
 
     res = _run(out_dir(args.out, "--out", create=False), _opts(args), progress=_bar)
     th = res["thresholds"]
@@ -234,8 +234,8 @@ def _readings_text(cal: dict) -> str:
 
 
 def run_calibrate(args) -> int:
-    from structure_fem.calibration import calibrate
-    from structure_fem.runs import load_file
+    from structure_fem.analysis.calibration import calibrate
+    from structure_fem.outputs.runs import load_file
 
     props = load_file(_opts(args))
     if props is not None:
@@ -243,7 +243,7 @@ def run_calibrate(args) -> int:
     cal = calibrate(props, args.calibration_backlash).to_dict()
     measured = ""
     if args.measured:
-        from structure_fem.connector_sources import load_measured
+        from structure_fem.couplings.connector_sources import load_measured
 
         robot = (props.get(args.robot) if props is not None else None)
         got = load_measured(args.measured, robot) if robot is not None else []
@@ -259,7 +259,7 @@ def run_calibrate(args) -> int:
 
 
 def _structure(args):
-    from structure_fem.structures import Structure
+    from structure_fem.model.structures import Structure
 
     kind = args.structure
     if args.taper_block_rows is not None:  # the thesis's tapering arch (lines aligned); bad kinds fail in Structure
@@ -277,8 +277,8 @@ MAX_SOLVE_ROWS = 1000  # a structure of more rows is far past the widest void (3
 
 def run_solve(args) -> int:
     from structure_fem.errors import SolverFailure
-    from structure_fem.model import Config, solve
-    from structure_fem.runs import make_inputs
+    from structure_fem.model.statics import Config, solve
+    from structure_fem.outputs.runs import make_inputs
 
     if args.plot:
         if Path(args.plot).suffix.lower() not in (".png", ".svg", ".pdf"):
@@ -308,7 +308,7 @@ def run_solve(args) -> int:
                "joint_rotations_rad": res.joint_rotation_rad.tolist(),
                "support_reactions_n": res.reactions_n.tolist(), "weight_n": res.total_weight_n}
     if args.plot:
-        from structure_fem.plots import side_view
+        from structure_fem.outputs.plots import side_view
 
         payload["plot"] = str(side_view(res, Path(args.plot), inp.robot.height_m))
     tf = payload["tipping_factor"]
@@ -352,9 +352,9 @@ def parse_pier_positions(raw: str, void_width: float, width: float = 1.0) -> tup
 
 
 def run_piers(args) -> int:
+    from structure_fem.analysis.piers import MAX_PIER_ROBOTS, PIER_WIDTH_WIDTHS, solve_piers
     from structure_fem.errors import SolverFailure
-    from structure_fem.piers import MAX_PIER_ROBOTS, PIER_WIDTH_WIDTHS, solve_piers
-    from structure_fem.runs import make_inputs
+    from structure_fem.outputs.runs import make_inputs
     from voidcross.output import check_float, check_int
 
     if args.plot:
@@ -383,7 +383,7 @@ def run_piers(args) -> int:
         return 0
     payload = {"converged": True, **sol.to_dict()}
     if args.plot:
-        from structure_fem.plots import side_view
+        from structure_fem.outputs.plots import side_view
 
         payload["plot"] = str(side_view(sol.result, Path(args.plot), inp.robot.height_m))
     res = sol.result
@@ -406,8 +406,8 @@ def run_piers(args) -> int:
 
 
 def run_design(args) -> int:
-    from structure_fem.design import PARAMETERS, describe, design
-    from structure_fem.runs import make_inputs
+    from structure_fem.analysis.design import PARAMETERS, describe, design
+    from structure_fem.outputs.runs import make_inputs
     from voidcross.output import check_int
 
     check_int(args.void_width, "--void-width", 1, args.max_width)
@@ -422,12 +422,12 @@ def run_design(args) -> int:
 
 
 def run_connectors(args) -> int:
-    from structure_fem.connector_sources import (
+    from structure_fem.couplings.connector_sources import (
         fe_front_rear_for,
         fe_octbot_ring_for,
         fe_platform_bolt_for,
     )
-    from structure_fem.runs import load_file
+    from structure_fem.outputs.runs import load_file
 
     props = load_file(_opts(args))
     robot = props.get(args.robot)
@@ -453,13 +453,11 @@ def run_connectors(args) -> int:
 
 def run_bench(args) -> int:
     from cubot_cad.properties import default_properties
-    from structure_fem.model import Config
-    from structure_fem.model import (
-        solve_uncached as solve,  # the solver itself, not the solve cache
-    )
-    from structure_fem.runs import RunOptions, run_table
-    from structure_fem.structures import Structure
-    from structure_fem.study import StudyInputs
+    from structure_fem.analysis.study import StudyInputs
+    from structure_fem.model.statics import Config
+    from structure_fem.model.statics import solve_uncached as solve
+    from structure_fem.model.structures import Structure
+    from structure_fem.outputs.runs import RunOptions, run_table
 
     out_dir(args.out, "--out", create=False)  # before a minute of solving
     if args.cold_fe and args.fe_workers < 1:
@@ -496,14 +494,14 @@ def run_bench(args) -> int:
             else:
                 os.environ["XDG_CACHE_HOME"] = saved
     cold_table, whole = times
-    from structure_fem.connector_sources import fe_front_rear_for
+    from structure_fem.couplings.connector_sources import fe_front_rear_for
 
     t0 = time.perf_counter()
     fe, where = fe_front_rear_for(robot)
     fe_s = time.perf_counter() - t0
     cold = None if fe is None else fe.timings_s.get("total")
     # every packaged FE result's cold time as recorded when it was computed (issue 12's goal: all <= 5 min)
-    from structure_fem.connector_sources import packaged_fe
+    from structure_fem.couplings.connector_sources import packaged_fe
 
     per_fe = {f"{d.get('kind')}:{str(d.get('input_hash'))[:12]}": (d.get("timings_s") or {}).get("total")
               for d in packaged_fe()}
@@ -519,7 +517,7 @@ def run_bench(args) -> int:
     cold_fe_text = ""
     if args.cold_fe:
         # every packaged result computed again from nothing, in a private cache, 2 processes
-        from structure_fem.connector_sources import compute_packaged_fe
+        from structure_fem.couplings.connector_sources import compute_packaged_fe
 
         with tempfile.TemporaryDirectory() as tmp:
             def tick(done, total, label):
@@ -641,8 +639,8 @@ def pipeline_stage(out: Path, ctx: dict) -> str:
         from voidcross.pipeline import StageUnavailable
 
         raise StageUnavailable(f"exudyn is not installed ({exc}); swarm_sim uses the packaged derived limits") from exc
-    from structure_fem.runs import RunOptions
-    from structure_fem.runs import run_table as _run
+    from structure_fem.outputs.runs import RunOptions
+    from structure_fem.outputs.runs import run_table as _run
 
     props = ctx.get("robot_properties")
     res = _run(out_dir(out), RunOptions(properties=str(props) if props else None), alternative=False)

@@ -211,9 +211,9 @@ def run(args: argparse.Namespace) -> int:
 
 
 def soak(args: argparse.Namespace) -> int:
+    from swarm_sim.experiments.soak import LIMITS
+    from swarm_sim.experiments.soak import soak as do_soak
     from swarm_sim.runner import resolve_engine
-    from swarm_sim.soak import LIMITS
-    from swarm_sim.soak import soak as do_soak
 
     engine = resolve_engine(args.engine)
     check_int(args.runs, "--runs", 1, MAX_RUNS, "randomised runs")
@@ -245,10 +245,10 @@ def soak(args: argparse.Namespace) -> int:
 
 
 def bench(args: argparse.Namespace) -> int:
-    from swarm_sim.bench import bench as do_bench
+    from swarm_sim.experiments.bench import bench as do_bench
 
     if args.workload == "thesis":
-        from swarm_sim.bench import workload_bench
+        from swarm_sim.experiments.bench import workload_bench
 
         check_int(args.seeds, "--seeds", 1, 1000, "seeds per case")
         rep = workload_bench(args.seeds, use_numba=False if args.no_numba else None,

@@ -109,7 +109,7 @@ def section(clean: list[Run], faulty: list[Run], fig_dir: Path, rel: str) -> tup
         return sec, {}
     cv = curves(clean, faulty)
     sec.add(Para("Runs with robots failing mid-task (`--faults`, swarm_sim.faults; detection and handling: "
-                 "swarm_sim.detection; piers: swarm_sim.piers). The fault-free runs of the same point are the "
+                 "swarm_sim.behaviour.detection; piers: swarm_sim.behaviour.piers). The fault-free runs of the same point are the "
                  "`none` row. Delays: from a robot's first fault until the swarm detected it."))
     for preset in sorted({k[0] for k in cv}):
         name = f"faults_{preset}.png"
