@@ -75,6 +75,14 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from .output import refuse_empty_values
+
+    argv = sys.argv[1:] if argv is None else list(argv)
+    try:
+        refuse_empty_values(argv)
+    except InputError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
     parser = build_parser()
     args = parser.parse_args(argv)
     args.json = getattr(args, "json", False)

@@ -175,3 +175,44 @@ def check_float(value: float | None, option: str, lo: float | None = None, hi: f
     if hi is not None and value > hi:
         raise InputError(f"{option} {value:g}: must be <= {hi:,g}{what}")
     return value
+
+
+def refuse_empty_values(argv: list[str]) -> None:
+    """Every option value and argument on the command line is non-blank: ``--stages ''``,
+    ``--cases ' '``, ``--faults=`` are :class:`InputError` naming the option (an empty value is
+    never a way to ask for the default: leave the option out). One rule for every command,
+    checked before any command runs."""
+    from cubot_cad.errors import InputError
+
+    for i, tok in enumerate(argv):
+        if tok.startswith("--") and "=" in tok:
+            opt, _, val = tok.partition("=")
+            if not val.strip():
+                raise InputError(f"{opt} {val!r} is empty: give a value or leave {opt} out for its default")
+        elif not tok.strip():
+            prev = argv[i - 1] if i and argv[i - 1].startswith("-") else None
+            what = prev or f"argument {i + 1}"
+            raise InputError(f"{what} {tok!r} is empty: give a value or leave {prev or 'it'} out for its default")
+
+
+def parse_choices(value: str, option: str, choices, all_word: str | None = "all") -> tuple[str, ...]:
+    """A comma list of names from ``choices`` (``all_word`` alone: every choice), in the order
+    given, duplicates dropped. Empty, blank, an empty item or an unknown name: one
+    :class:`InputError` naming ``option`` and what it accepts."""
+    from cubot_cad.errors import InputError
+
+    choices = tuple(choices)
+    accepted = ", ".join(choices) + (f" or {all_word}" if all_word else "")
+    text = "" if value is None else str(value)
+    items = [s.strip() for s in text.split(",")]
+    if not text.strip() or not any(items):
+        raise InputError(f"{option} {text!r} is empty: give a comma list of {accepted}")
+    if "" in items:
+        raise InputError(f"{option} {text!r}: an empty item (two commas or a trailing comma); "
+                         f"give a comma list of {accepted}")
+    if all_word and items == [all_word]:
+        return choices
+    bad = [s for s in items if s not in choices]
+    if bad:
+        raise InputError(f"{option} {text!r}: {', '.join(map(repr, bad))} not one of {accepted}")
+    return tuple(dict.fromkeys(items))

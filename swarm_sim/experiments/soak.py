@@ -218,32 +218,52 @@ def _append(fh, rec: dict) -> None:
 
 def _read_journal(path: Path, header: dict) -> tuple[dict[int, dict], float, list[str]]:
     """The finished draws of an earlier session (index -> outcome) and its wall time; an
-    absent or empty file is a fresh start. A journal of another soak is refused, a torn last
-    line (the process was killed mid-write) is ignored, any other bad line is an error."""
-    if not path.exists() or path.stat().st_size == 0:
-        return {}, 0.0, []
+    absent or empty file is a fresh start. A journal of another soak is refused. A torn last
+    line (the process was killed mid-write, even inside a UTF-8 character) is cut, so the
+    soak resumes from the last whole record; a whole last line without its newline gets one; a
+    torn header alone is a fresh start. Any other bad line is one error naming its number."""
     if path.is_dir():
         raise InputError(f"--journal {path} is a directory")
-    text = path.read_text(encoding="utf-8")
-    lines = text.splitlines()
-    recs, torn = [], 0
-    for n, line in enumerate(lines, 1):
+    if not path.exists() or path.stat().st_size == 0:
+        return {}, 0.0, []
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"--journal {path}: cannot read ({exc.strerror})") from None
+    ends_whole = data.endswith(b"\n")
+    lines = data.split(b"\n")
+    if ends_whole:
+        lines.pop()
+    recs: list = []
+    keep = len(data)  # bytes of the file that hold whole records
+    for n, raw in enumerate(lines, 1):
+        last_torn = n == len(lines) and not ends_whole
         try:
-            recs.append(json.loads(line))
-        except json.JSONDecodeError:
+            rec = json.loads(raw.decode("utf-8"))
+            if not isinstance(rec, dict):
+                raise ValueError("not a record")
+        except (UnicodeDecodeError, ValueError):
+            if last_torn:
+                keep = len(data) - len(raw)
+                break
             if n == 1:
                 raise InputError(f"--journal {path} is not a soak journal (its first line is not JSON)") from None
-            if n == len(lines) and not text.endswith("\n"):
-                torn = len(line.encode("utf-8"))
-                break
-            raise InputError(f"--journal {path}: line {n} is not JSON (corrupt journal)") from None
-    if not recs or recs[0].get("soak") != 1:
+            raise InputError(f"--journal {path}: line {n} is not JSON (corrupt journal; "
+                             f"lines 1-{n - 1} are whole)") from None
+        recs.append(rec)
+    if not recs:  # only a torn header: nothing was run
+        os.truncate(path, 0)
+        return {}, 0.0, []
+    if recs[0].get("soak") != 1:
         raise InputError(f"--journal {path} is not a soak journal (no header line)")
     if recs[0] != header:
         diff = {k: recs[0].get(k) for k in header if recs[0].get(k) != header[k]}
         raise InputError(f"--journal {path} is another soak's ({diff}); use a new file or the same options")
-    if torn:  # a journal of this soak: cut the torn record so the next append starts its own line
-        os.truncate(path, len(text.encode("utf-8")) - torn)
+    if keep < len(data):  # a journal of this soak: cut the torn record so the next append starts its own line
+        os.truncate(path, keep)
+    elif not ends_whole:  # the last record is whole but its newline was not written
+        with open(path, "ab") as fh:
+            fh.write(b"\n")
     done: dict[int, dict] = {}
     wall, session_wall = 0.0, 0.0
     codes: list[str] = []
@@ -252,8 +272,11 @@ def _read_journal(path: Path, header: dict) -> tuple[dict[int, dict], float, lis
             wall, session_wall = wall + session_wall, 0.0
             codes.append(str(r.get("code", "unknown")))
         elif isinstance(r.get("i"), int) and 0 <= r["i"] < header["runs"] and isinstance(r.get("out"), dict):
+            w = r.get("wall_s", 0.0)
+            if isinstance(w, bool) or not isinstance(w, (int, float)):
+                raise InputError(f"--journal {path}: draw {r['i']} has no wall time (wall_s {w!r})")
             done[r["i"]] = r["out"]
-            session_wall = max(session_wall, float(r.get("wall_s", 0.0)))
+            session_wall = max(session_wall, float(w))
         else:
             raise InputError(f"--journal {path}: a record is not a finished draw: {str(r)[:80]}")
     return done, wall + session_wall, codes

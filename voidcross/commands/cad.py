@@ -206,14 +206,11 @@ def run_export(args) -> int:
 
 def run_dock(args) -> int:
     from cubot_cad.checks.docking import PAIRS, ROBOT_OF_PAIR, dock
-    from cubot_cad.errors import InputError
     from cubot_cad.part import check_clearance
     from cubot_cad.robots.registry import make_robot
+    from voidcross.output import parse_choices
 
-    names = PAIRS if args.pair == "all" else tuple(p.strip() for p in args.pair.split(","))
-    for n in names:
-        if n not in PAIRS:
-            raise InputError(f"--pair {n!r} is not one of {', '.join(PAIRS)}, all")
+    names = parse_choices(args.pair, "--pair", PAIRS)
     robots = tuple(dict.fromkeys(ROBOT_OF_PAIR[n] for n in names))
     settings = _resolve(args, robots)
     check_clearance(args.clearance_mm, "--clearance-mm")

@@ -411,10 +411,9 @@ def run_design(args) -> int:
     from voidcross.output import check_int
 
     check_int(args.void_width, "--void-width", 1, args.max_width)
-    params = tuple(p.strip() for p in args.vary.split(",") if p.strip())
-    bad = [p for p in params if p not in PARAMETERS]
-    if bad or not params:
-        raise InputError(f"--vary {args.vary!r}: use a comma list of {', '.join(PARAMETERS)}")
+    from voidcross.output import parse_choices
+
+    params = parse_choices(args.vary, "--vary", PARAMETERS, all_word=None)
     inp, _ = make_inputs(_opts(args))
     res = design(inp, args.structure, args.void_width, params)
     emit(args, res, describe(res))

@@ -9,15 +9,12 @@ from ..pipeline import STAGES, run_pipeline
 
 
 def run(args: argparse.Namespace) -> int:
-    from cubot_cad.errors import InputError
+
+    from voidcross.output import parse_choices
 
     only = None
-    if args.stages:
-        only = tuple(s.strip() for s in args.stages.split(",") if s.strip())
-        names = {s[0] for s in STAGES}
-        bad = [s for s in only if s not in names]
-        if bad or not only:
-            raise InputError(f"--stages {args.stages!r}: unknown stage(s) {bad} (choose from {', '.join(sorted(names))})")
+    if args.stages is not None:
+        only = parse_choices(args.stages, "--stages", [s[0] for s in STAGES], all_word=None)
     out = out_dir(args.out, "--out", create=False)
     echo = (lambda s: None) if args.json else print
     results = run_pipeline(out, debug=args.debug, echo=echo, only=only)

@@ -79,12 +79,10 @@ def _selected(chapter: str, cases: str | None) -> list[tuple]:
     if chapter not in ("4", "5", "all"):
         raise InputError(f"--chapter {chapter!r}: one of 4, 5, all")
     exps = [e for e in EXPERIMENTS if chapter == "all" or str(e[0]) == chapter]
-    if cases:
-        want = {c.strip() for c in cases.split(",") if c.strip()}
-        known = {e[1] for e in exps}
-        bad = sorted(want - known)
-        if bad or not want:
-            raise InputError(f"--cases {cases!r}: choose from {', '.join(sorted(known))}")
+    if cases is not None:
+        from voidcross.output import parse_choices
+
+        want = set(parse_choices(cases, "--cases", sorted({e[1] for e in exps}), all_word=None))
         exps = [e for e in exps if e[1] in want]
     return exps
 
