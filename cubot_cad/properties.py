@@ -306,8 +306,10 @@ class RobotProperties:
             require(m_src is None, f"{self.name}.solid_print_mass_source is given without solid_print_mass_kg")
         else:
             require(_finite(m_s) and m_s >= self.mass_kg * (1 - 1e-9),
-                    f"{self.name}.solid_print_mass_kg must be >= mass_kg {self.mass_kg!r} (solid parts are not "
-                    f"lighter than printed ones), got {m_s!r}")
+                    f"{self.name}.solid_print_mass_kg {m_s!r} must be >= mass_kg {self.mass_kg!r} (solid parts are "
+                    "not lighter than printed ones): a changed mass_kg takes solid_print_mass_kg and inertia_kg_m2 "
+                    "with it, by the same factor (`voidcross cad props --scale-mass F` writes such a variant; "
+                    "docs/records.md lists the fields that change together)")
             require(isinstance(m_src, str) and bool(m_src.strip()),
                     f"{self.name}.solid_print_mass_kg needs a solid_print_mass_source saying where it comes from")
         for name in ("wheel_exposed_height_m", "caster_exposed_height_m"):

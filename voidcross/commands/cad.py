@@ -576,6 +576,57 @@ def _add_set(q) -> None:
                    + ". Each is checked by the robot's own validation (exit 2 and nothing written if refused)")
 
 
+#: The mass factors `cad props --scale-mass` accepts: a hundredth to a hundred times the record.
+MASS_SCALE_RANGE = (0.01, 100.0)
+
+
+def run_props(args) -> int:
+    """Write a consistent variant of a robot_properties.json: every mass field of the chosen
+    robots scaled together (docs/records.md), the source fields saying so."""
+    from dataclasses import replace
+
+    from cubot_cad.errors import InputError
+    from cubot_cad.properties import RobotPropertiesFile, default_properties_path, load_properties
+
+    f = args.scale_mass
+    lo, hi = MASS_SCALE_RANGE
+    if not (math.isfinite(f) and lo <= f <= hi):
+        raise InputError(f"--scale-mass {f!r} is not a factor in [{lo:g}, {hi:g}]")
+    src = Path(args.properties) if args.properties else default_properties_path()
+    out = Path(args.out)
+    if out.exists() and (out.is_dir() or out.resolve() == src.resolve()):
+        what = "a directory" if out.is_dir() else "the input record (write a variant beside it)"
+        raise InputError(f"--out {out} is {what}")
+    from voidcross.output import out_file
+
+    out_file(out, "--out")
+    rec = load_properties(args.properties)
+    from voidcross.output import parse_choices
+
+    want = parse_choices(args.robot, "--robot", rec.names)
+    note = f"mass x{f:g} (voidcross cad props --scale-mass {f:g})"
+    robots, rows = [], []
+    for r in rec.robots:
+        if r.name in want:
+            scaled = r.with_mass_scaled(f)
+            scaled = replace(scaled, source=f"{r.source}; {note}",
+                             solid_print_mass_source=None if r.solid_print_mass_source is None
+                             else f"{r.solid_print_mass_source}; {note}")
+            rows.append({"robot": r.name, "mass_kg": [r.mass_kg, scaled.mass_kg],
+                         "solid_print_mass_kg": [r.solid_print_mass_kg, scaled.solid_print_mass_kg],
+                         "inertia_kg_m2": [list(r.inertia_kg_m2), list(scaled.inertia_kg_m2)]})
+            r = scaled
+        robots.append(r)
+    RobotPropertiesFile(tuple(robots), rec.schema_version).save(out)
+    lines = [f"{x['robot']}: mass {x['mass_kg'][0]:.4g} -> {x['mass_kg'][1]:.4g} kg"
+             + ("" if x["solid_print_mass_kg"][0] is None
+                else f", solid print {x['solid_print_mass_kg'][0]:.4g} -> {x['solid_print_mass_kg'][1]:.4g} kg")
+             + ", inertia scaled alike" for x in rows]
+    emit(args, {"out": str(out), "from": str(src), "scale_mass": f, "robots": rows},
+         "\n".join(lines) + f"\nwrote {out} (from {src}); use it with `voidcross fem table --properties {out}`")
+    return 0
+
+
 def register(sub, common) -> None:
     p = sub.add_parser("cad", parents=[common], help="cubot_cad: parametric robots, printable exports, mass properties",
                        description=__doc__.split("\n\n")[0], epilog=EPILOG,
@@ -657,6 +708,23 @@ def register(sub, common) -> None:
     pr.add_argument("--no-deck", action="store_true",
                     help="without the pier deck on the top robot (the bare top cover: the running surface fails)")
     pr.set_defaults(func=run_pier)
+
+    pp = csub.add_parser("props", parents=[common],
+                         help="write a consistent variant of robot_properties.json (e.g. a heavier robot)",
+                         description="Every field that must change together (docs/records.md) changes together: "
+                                     "--scale-mass F multiplies mass_kg, solid_print_mass_kg and the inertia tensor "
+                                     "of the chosen robots by F, keeps the centre of mass and notes the factor in "
+                                     "the record's source fields. No CAD is run.",
+                         epilog="examples:\n  voidcross cad props --scale-mass 1.5 --out heavy.json\n"
+                                "  voidcross fem table --properties heavy.json",
+                         formatter_class=argparse.RawDescriptionHelpFormatter)
+    pp.add_argument("--scale-mass", type=float, required=True, metavar="F",
+                    help=f"mass factor, {MASS_SCALE_RANGE[0]:g}-{MASS_SCALE_RANGE[1]:g}")
+    pp.add_argument("--out", required=True, metavar="FILE", help="the variant record to write (not the input)")
+    pp.add_argument("--properties", default=None, metavar="JSON",
+                    help="the record to start from (default: the packaged robot_properties.json)")
+    pp.add_argument("--robot", default="all", help="robot name(s) in the record, comma list, or all (default all)")
+    pp.set_defaults(func=run_props)
 
     b = csub.add_parser("bench", parents=[common], help="time `cad export --robot all` incl. the cadquery import",
                         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
