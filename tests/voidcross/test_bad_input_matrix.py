@@ -257,6 +257,14 @@ cell("pipeline-stages-unknown", "pipeline --stages cad,warp --out out", ("warp",
 # -------------------------------------------------------------------------------------- doctor
 cell("doctor-option-unknown", "doctor --frobnicate", ("--frobnicate",))
 
+# cad props: a consistent variant of a record (issue 41)
+cell("cad-props-scale-mass-negative", "cad props --scale-mass -2 --out v.json", ("--scale-mass",))
+cell("cad-props-scale-mass-nan", "cad props --scale-mass nan --out v.json", ("--scale-mass",))
+cell("cad-props-out-dir", "cad props --scale-mass 2 --out {dir}", ("--out",))
+cell("cad-props-properties-corrupt", "cad props --scale-mass 2 --properties {corrupt_json} --out v.json",
+     ("corrupt.json",))
+cell("cad-props-robot-unknown", "cad props --scale-mass 2 --robot warp --out v.json", ("warp",))
+
 # empty or blank list values (issue 41): one rule for every command, refused before any work;
 # an empty value never means "the default" (leave the option out for that)
 for cid, argv, opt in [
@@ -402,6 +410,6 @@ def test_the_matrix_covers_every_command():
     covered = {c.id.split("-")[0] for c in CELLS}
     assert set(COMMANDS) <= covered
     subs = {"-".join(c.id.split("-")[:2]) for c in CELLS}
-    for s in ("cad-export", "cad-check", "cad-dock", "cad-render", "fem-table", "fem-study", "fem-solve",
+    for s in ("cad-export", "cad-props", "cad-check", "cad-dock", "cad-render", "fem-table", "fem-study", "fem-solve",
               "fem-calibrate", "sim-run", "sim-soak", "sim-bench", "sweep-export", "sweep-status", "sweep-bench"):
         assert s in subs, s
