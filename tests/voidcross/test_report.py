@@ -16,6 +16,7 @@ import pytest
 from swarm_sim.sweeps import SweepSpec, prepare_sweep
 from swarm_sim.sweeps.executors import SerialExecutor
 from voidcross.report import build_report
+from voidcross.report.build import limits_sets, swarm_reach
 from voidcross.report.thesis import THESIS_TABLES, thesis_tables
 
 SYNTH = "swarm_sim.sweeps.synthetic:synthetic_run"
@@ -120,12 +121,37 @@ def test_sections_and_no_data_notes(report):
     assert "synthetic failure for seed 3" in html and res["raised"] == 18
 
 
-def test_no_fem_or_cad_dirs_say_so(small_db, tmp_path):
+def test_sections_without_data_are_left_out_and_named_once_with_their_command(small_db, tmp_path):
     res = build_report(small_db, tmp_path / "r")
     html = (tmp_path / "r" / "index.html").read_text()
-    assert "no structure_fem output directory given" in html and "no CAD render directory given" in html
+    md = (tmp_path / "r" / "report.md").read_text()
+    for text in (html, md):
+        assert text.count("Not in this report") == 1
+        assert "structure_fem tables and plots" in text and "voidcross report --fem-dir" in text
+        assert "CAD renders and 3D models" in text and "voidcross report --cad-dir" in text
+        assert "Robot and connector renders" not in text and "Structure selection and deflection" not in text
     assert all((tmp_path / "r" / s).is_file() for s in _img_srcs(tmp_path / "r" / "index.html"))
-    assert res["no_data_notes"] >= 3
+
+
+def test_a_section_asked_for_is_shown_even_empty(small_db, tmp_path):
+    build_report(small_db, tmp_path / "r", fem_dir=tmp_path / "nothing-here")
+    html = (tmp_path / "r" / "index.html").read_text()
+    assert "Structure selection and deflection" in html and "does not exist" in html
+
+
+def test_the_reach_table_rows_come_each_from_its_own_record(small_db, tmp_path):
+    """Runs under --limits thesis: the 70-robot table's derived row is the derived record's
+    own reach, the thesis row the thesis's, computed from each record."""
+    from structure_fem.limits import load_limits, thesis_limits
+
+    build_report(small_db, tmp_path / "r", limits="thesis")
+    html = (tmp_path / "r" / "index.html").read_text()
+    t = html.split("What a swarm of 70 robots can cross", 1)[1].split("</table>", 1)[0]
+    rows = {r[0]: r[1:] for r in (re.findall(r"<td>([^<]*)</td>", x) for x in t.split("<tr>")) if r}
+    d, th = swarm_reach(load_limits("derived"), 70), swarm_reach(thesis_limits(), 70)
+    assert rows["derived"][0] == str(d["widest"]) and rows["thesis"][0] == str(th["widest"])
+    if (d["widest"], d["widest_structure"]) != (th["widest"], th["widest_structure"]):
+        assert rows["derived"][:2] != rows["thesis"][:2]  # never the same figures under both labels
 
 
 def _cell(html: str, caption_start: str, row_label: str, col: int) -> str:
@@ -169,9 +195,16 @@ def test_observed_boundary_follows_the_runs(report):
     t = html.split("case-d: observed crossing boundary", 1)[1].split("</table>", 1)[0]
     rows = [re.findall(r"<td>([^<]*)</td>", r) for r in t.split("<tr>")]
     rows = {r[0]: r[1:] for r in rows if r}
-    assert rows["1"][:3] == ["2", "3", "3"]
-    assert rows["2"][:3] == ["5", "6", "6"]
-    assert rows["3"][:3] == ["8", "9", "9"]
+    assert [rows[w][:2] for w in ("1", "2", "3")] == [["2", "3"], ["5", "6"], ["8", "9"]]
+    # the rule columns, each from its own record: the runs used the thesis's limits, the derived
+    # column is still the derived record's (never the thesis's figures under the derived label)
+    from structure_fem.limits import load_limits, thesis_limits
+
+    for label, lim in (("derived", load_limits("derived")), ("thesis", thesis_limits())):
+        col = 2 + list(limits_sets("thesis")[0]).index(label)
+        for w in ("1", "2", "3"):
+            want = str(lim.min_robots(int(w))) if int(w) <= lim.max_span_widths else "–"
+            assert rows[w][col] == want, (label, w)
 
 
 def test_thesis_data_files_name_their_table_and_match_the_thesis_text():

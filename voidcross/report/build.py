@@ -52,15 +52,19 @@ def limits_sets(limits: str | os.PathLike | None) -> tuple[dict, list[str]]:
 
     out, notes = {}, []
     spec = str(limits) if limits else "derived"
+    # the runs' own limits may be the thesis's: the derived row is still the derived record's
+    # (each table row from its own record, never the same figures under two labels)
+    label, want = ("derived", "derived") if spec in ("derived", "thesis") else (f"derived ({Path(spec).name})", spec)
     try:
-        out["derived"] = load_limits(spec)
+        out[label] = load_limits(want)
     except FemInputError as exc:
         notes.append(f"derived limits unavailable ({exc})")
     out["thesis"] = thesis_limits()
     return out, notes
 
 
-def _limits_section(limits: dict, notes: list[str], fig_dir: Path, rel: str) -> Section:
+def _limits_section(limits: dict, notes: list[str], fig_dir: Path, rel: str,
+                    reach_sizes: tuple[int, ...] = ()) -> Section:
     sec = Section("Structure limits: derived and thesis")
     sec.add(Para("Which structure spans which void and the smallest swarm that may launch it. `derived` is "
                  "computed by structure_fem from the robots' mechanics (the default for simulations); "
@@ -91,6 +95,8 @@ def _limits_section(limits: dict, notes: list[str], fig_dir: Path, rel: str) -> 
                 for label, lim in limits.items()}
         F.limits_plot(limits, fig_dir / "limits.png", rule=rule)
         sec.add(Figure(f"{rel}/limits.png", "Minimum swarm size per void width, derived and thesis limits"))
+    for n in reach_sizes or (70,):
+        sec.add(_reach_table(limits, n))
     return sec
 
 
@@ -290,10 +296,6 @@ def _reach_table(limits: dict, robots: int) -> Table:
 
 def _large_void_section(rs: RunSet, fig_dir: Path, rel: str, limits: dict | None = None) -> Section:
     sec = Section("Large voids (Fig. 5.9-5.13 equivalents)")
-    if limits:
-        sizes = sorted({r.robots for p in rs.presets() if p.startswith("large") for r in rs.of(p)}) or [70]
-        for n in sizes[:4]:
-            sec.add(_reach_table(limits, n))
     large = [p for p in rs.presets() if p.startswith("large")]
     if not large:
         sec.add(Note("no large-void runs in this database (`voidcross sweep --preset large-void --robots 70 "
@@ -489,23 +491,50 @@ def build_report(db, out, fem_dir=None, cad_dir=None, limits=None, watch: dict |
                            [[s["sweep_id"], s["created_utc"], str(s["runs_planned"]),
                              ", ".join(f"{k}={v}" for k, v in sorted(s["spec"].items()))] for s in rs.sweeps],
                            "sweeps recorded in the database"))
-    sections = [_limits_section(lims, notes, fig_dir, rel)]
-    if watch is not None:
-        sections.append(_watch_section(pick_watch_run(rs) if watch == "auto" else watch, out))
+    large_sizes = tuple(sorted({r.robots for p in rs.presets() if p.startswith("large") for r in rs.of(p)})[:4])
+    sections = [_limits_section(lims, notes, fig_dir, rel, large_sizes)]
+    absent: list[tuple[str, str]] = []  # (section, the command that fills it)
     small = [p for p in rs.presets() if not p.startswith("large")]  # fault-free runs
-    if not small:
-        sections.append(Section("Small voids (cases A-D)").add(Note("no small-void runs in this database.")))
-    sections += [_preset_section(p, rs, lims, fig_dir, rel) for p in small]
-    thesis_sec, comparison = _thesis_tables_section(rs, fig_dir, rel)
-    sections.append(thesis_sec)
-    sections.append(_large_void_section(rs, fig_dir, rel, lims))
-    fault_sec, fault_curves = faults_section(clean, faulty, fig_dir, rel)
-    sections.append(fault_sec)
-    sections.append(_copy_assets(fem_dir, out, "fem", "structure_fem output",
-                                 "Structure selection and deflection (structure_fem)"))
-    sections.append(_copy_assets(cad_dir, out, "cad", "CAD render", "Robot and connector renders (cubot_cad)"))
-    sections.append(_models_section(cad_dir, out))
-    sections.append(_errors_section(rs))
+    large = [p for p in rs.presets() if p.startswith("large")]
+    if watch is not None and (rs.runs or watch != "auto"):
+        sections.append(_watch_section(pick_watch_run(rs) if watch == "auto" else watch, out))
+    if small:
+        sections += [_preset_section(p, rs, lims, fig_dir, rel) for p in small]
+    else:
+        absent.append(("small voids (cases A-D)", "voidcross reproduce --chapter 4"))
+    comparison: list[dict] = []
+    if any(t.preset in small for t in thesis_tables()):
+        thesis_sec, comparison = _thesis_tables_section(rs, fig_dir, rel)
+        sections.append(thesis_sec)
+    else:
+        absent.append(("Tables 4.4-4.9 beside ours", "voidcross reproduce --chapter 4"))
+    if large:
+        sections.append(_large_void_section(rs, fig_dir, rel, lims))
+    else:
+        absent.append(("large voids", "voidcross reproduce --chapter 5"))
+    fault_curves: dict = {}
+    if faulty:
+        fault_sec, fault_curves = faults_section(clean, faulty, fig_dir, rel)
+        sections.append(fault_sec)
+    else:
+        absent.append(("robots that fail", "voidcross sweep ... --faults 'none;drive:0.5/h'"))
+    if fem_dir is not None:  # asked for: shown, with a note if it holds nothing
+        sections.append(_copy_assets(fem_dir, out, "fem", "structure_fem output",
+                                     "Structure selection and deflection (structure_fem)"))
+    else:
+        absent.append(("structure_fem tables and plots", "voidcross report --fem-dir DIR (voidcross fem table --out DIR)"))
+    if cad_dir is not None:
+        sections.append(_copy_assets(cad_dir, out, "cad", "CAD render", "Robot and connector renders (cubot_cad)"))
+        models = _models_section(cad_dir, out)
+        if models is not None:
+            sections.append(models)
+    else:
+        absent.append(("CAD renders and 3D models", "voidcross report --cad-dir DIR (voidcross cad export --out DIR)"))
+    if rs.errors:
+        sections.append(_errors_section(rs))
+    if absent:
+        intro.append(Para("Not in this report (no data for them): "
+                          + "; ".join(f"{what} (`{cmd}`)" for what, cmd in absent) + "."))
     for sec in sections:  # each figure's numbers beside it
         for b in sec.blocks:
             if isinstance(b, Figure) and (out / b.src).with_suffix(".csv").is_file():
