@@ -363,8 +363,11 @@ def measure(r, name: str, pair, full_ladder: bool = True) -> Capture | None:
 
     ``full_ladder`` False checks the required rung only (and the smaller ones when it fails)."""
     g = geometry(r, name, pair)
-    if g is None:
-        return None
+    return None if g is None else measure_geometry(name, g, full_ladder)
+
+
+def measure_geometry(name: str, g: CouplingGeometry, full_ladder: bool = True) -> Capture:
+    """Capture range of coupling ``name`` from its geometry alone (:func:`measure`)."""
     cap = Capture(name, step_mm=g.step_mm)
     for ax in g.axes:
         for sign in (1, -1):

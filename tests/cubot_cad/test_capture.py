@@ -97,3 +97,47 @@ def test_cli_dock_reports_the_capture_of_a_pair(cli):
     assert cap["ok"] and cap["min_offset_mm"] >= 1.0 and cap["min_angle_deg"] >= 3.0
     assert set(cap["offset_mm"]) == {"+x", "-x", "+y", "-y"}
     assert set(cap["angle_deg"]) == {"+rot_x", "-rot_x", "+rot_y", "-rot_y"}
+
+
+# -- the cache by geometry hash and the parallel measurement (issue 41) ------------------------
+
+def test_a_capture_is_measured_once_per_geometry_and_the_same_in_a_worker(robots, pairs, tmp_path, monkeypatch):
+    from cubot_cad.checks import capture as C
+    from cubot_cad.checks import capture_cache as CC
+    from cubot_cad.checks.docking import ROBOT_OF_PAIR
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    names = ("cubot-top-down", "octbot-ring")
+    jobs = [(robots[ROBOT_OF_PAIR[n]], n, pairs[n]) for n in names]
+    par = CC.measure_all(jobs, workers=2, full_ladder=False)  # one coupling per worker process
+    direct = {n: measure(*j, full_ladder=False) for n, j in zip(names, jobs, strict=True)}
+    for n in names:
+        assert par[n].summary() == direct[n].summary() and par[n].entries == direct[n].entries
+    assert len(list((tmp_path / "voidcross" / "capture").glob("*.json"))) == 2
+
+    def boom(*a, **k):
+        raise AssertionError("measured what the cache holds")
+
+    monkeypatch.setattr(C, "measure_geometry", boom)
+    again = CC.measure_all(jobs, workers=1, full_ladder=False)
+    assert {n: c.summary() for n, c in again.items()} == {n: c.summary() for n, c in par.items()}
+
+
+def test_the_cache_key_moves_with_the_geometry_the_ladder_and_the_checker(robots, pairs, monkeypatch, tmp_path):
+    from cubot_cad.checks import capture_cache as CC
+
+    g = geometry(robots["cubot"], "cubot-top-down", pairs["cubot-top-down"])
+    p = CC.portable(g)
+    k = CC.key_of("cubot-top-down", p, False)
+    assert CC.key_of("cubot-top-down", CC.portable(g), False) == k  # the same geometry, the same key
+    moved = dict(p, moving=(p["moving"][0] + 0.01, p["moving"][1]))
+    assert CC.key_of("cubot-top-down", moved, False) != k
+    assert CC.key_of("cubot-top-down", p, True) != k
+    assert CC.key_of("cubot-top-down", dict(p, step_mm=0.1), False) != k
+    monkeypatch.setattr(CC, "CACHE_VERSION", CC.CACHE_VERSION + 1)
+    assert CC.key_of("cubot-top-down", p, False) != k
+    # an unreadable cache entry is measured again, not an error
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    (tmp_path / "voidcross" / "capture").mkdir(parents=True)
+    (tmp_path / "voidcross" / "capture" / f"{k}.json").write_text("{torn")
+    assert CC.lookup(k) is None

@@ -222,11 +222,13 @@ def run_dock(args) -> int:
     rows = [p.summary() for p in pairs]
     captures = {}
     if not args.no_capture:
-        from cubot_cad.checks.capture import measure
+        from cubot_cad.checks.capture_cache import measure_all
 
-        for p, row in zip(progress(pairs, "capture", len(pairs)), rows, strict=True):
-            cap = measure(make_robot(ROBOT_OF_PAIR[p.name], args.clearance_mm, settings), p.name, p)
-            captures[p.name] = cap
+        # cached by the geometry's hash; the misses measured in parallel, one coupling per process
+        captures = measure_all([(make_robot(ROBOT_OF_PAIR[p.name], args.clearance_mm, settings), p.name, p)
+                                for p in pairs], progress=lambda it, n: progress(it, "capture", n))
+        for p, row in zip(pairs, rows, strict=True):
+            cap = captures[p.name]
             row["capture"] = None if cap is None else cap.summary()
             if cap is not None and not cap.ok:
                 row["ok"] = False
