@@ -315,6 +315,9 @@ def with_overrides(params: Params, overrides: dict, source: str = "override") ->
             v = tuple(tuple(float(c) for c in ob) for ob in v)
         elif ref is not None and k != "void_left_x_cm" and type(v) is not type(ref):
             raise InputError(f"{source}: {k} must be {type(ref).__name__}, got {v!r}")
+        from .tunables import check
+
+        check(k, v, source)
         clean[k] = v
     return replace(params, **clean)
 

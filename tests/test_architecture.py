@@ -29,7 +29,7 @@ LAYERS = {
         {"errors", "limits", "solve_cache"}, {"couplings"}, {"model"}, {"analysis"}, {"outputs"},
     ],
     "swarm_sim": [
-        {"errors", "state", "params", "faults"}, {"engine"}, {"behaviour"},
+        {"errors", "state", "params", "tunables", "faults"}, {"engine"}, {"behaviour"},
         {"resolve", "step", "compiled", "invariants", "render", "runner", "decision_docs"},
         {"experiments", "sweeps"},
     ],

@@ -122,7 +122,7 @@ def test_sections_and_no_data_notes(report):
 
 
 def test_sections_without_data_are_left_out_and_named_once_with_their_command(small_db, tmp_path):
-    res = build_report(small_db, tmp_path / "r")
+    build_report(small_db, tmp_path / "r")
     html = (tmp_path / "r" / "index.html").read_text()
     md = (tmp_path / "r" / "report.md").read_text()
     for text in (html, md):

@@ -244,6 +244,18 @@ def soak(args: argparse.Namespace) -> int:
     return 1 if rep["n_violations"] or rep["robots_lost"] or rep["timeouts"] or rep["errors"] else 0
 
 
+def params_table(args: argparse.Namespace) -> int:
+    from swarm_sim.params import Params
+    from swarm_sim.tunables import table
+
+    rows = table(Params())
+    w = max(len(r["name"]) for r in rows)
+    human = "\n".join(f"{r['name']:<{w}}  {r['default']!s:>7} {r['unit']:<6} range {r['lo']:g}..{r['hi']:g}   "
+                      f"{r['changes']} [{r['source']}]" for r in rows)
+    emit(args, {"tunables": rows}, human + "\nset with --set NAME=VALUE or in a preset's TOML")
+    return 0
+
+
 def bench(args: argparse.Namespace) -> int:
     from swarm_sim.experiments.bench import bench as do_bench
 
@@ -353,6 +365,13 @@ def register(sub, common) -> None:
                    help="robots that fail: half the draws get random fault rates and schedules, the pier "
                         "preset is drawn too (runs with faults use the reference engine)")
     s.set_defaults(func=soak)
+
+    t = ss.add_parser("params", parents=[common],
+                      help="every tunable of the behaviour: default, range, unit, what it changes, where it comes from",
+                      epilog="examples:\n  voidcross sim params\n  voidcross sim params --json\n"
+                             "  voidcross sim run --preset case-d --set recruit_stall_s=10",
+                      formatter_class=argparse.RawDescriptionHelpFormatter)
+    t.set_defaults(func=params_table)
 
     b = ss.add_parser("bench", parents=[common], help="exploration-only throughput and scaling",
                       formatter_class=argparse.RawDescriptionHelpFormatter, epilog=BENCH_EPILOG)
