@@ -85,4 +85,4 @@ api-docs: $(STAMP)
 .PHONY: docs
 docs: $(STAMP)
 	$(BIN)/python -m swarm_sim.decision_docs docs/swarm_sim.md
-	$(BIN)/python -m structure_fem.docs_blocks docs/structure_fem.md README.md
+	$(BIN)/python -m structure_fem.outputs.docs_blocks docs/structure_fem.md README.md

@@ -13,20 +13,30 @@ from voidcross.cli import main
 
 
 def pytest_configure(config):
-    """One fresh user cache per test session (solves, launch allowances): tests never read a
-    developer's cache (a stale entry would hide a regression) nor write into it, yet share the
-    solves they repeat. Set through ``os.environ`` so CLI subprocesses inherit it."""
+    """One fresh user cache per test session (solves, launch allowances, FE and capture results):
+    tests never read a developer's cache (a stale entry would hide a regression) nor write into
+    it, yet share the solves they repeat. The session's controller makes it and every xdist
+    worker inherits it (``VOIDCROSS_TEST_CACHE``), so a solve one worker made is a hit in the
+    other (the caches are safe across processes: SQLite in WAL mode, files written atomically).
+    Set through ``os.environ`` so CLI subprocesses inherit it. A test about a cold cache sets
+    its own ``XDG_CACHE_HOME``."""
     if os.environ.get("VOIDCROSS_TEST_KEEP_CACHE"):
+        return
+    inherited = os.environ.get("VOIDCROSS_TEST_CACHE")
+    if hasattr(config, "workerinput") and inherited and os.path.isdir(inherited):
+        os.environ["XDG_CACHE_HOME"] = inherited  # the controller owns (and removes) it
         return
     d = tempfile.mkdtemp(prefix="voidcross-test-cache-")
     config._voidcross_cache = d
     os.environ["XDG_CACHE_HOME"] = d
+    os.environ["VOIDCROSS_TEST_CACHE"] = d
 
 
 def pytest_unconfigure(config):
     d = getattr(config, "_voidcross_cache", None)
     if d:
         shutil.rmtree(d, ignore_errors=True)
+        os.environ.pop("VOIDCROSS_TEST_CACHE", None)
 
 
 class CliResult:

@@ -1,6 +1,6 @@
 """The numbers of ``docs/structure_fem.md``, generated from what the code computes.
 
-``python -m structure_fem.outputs.outputs.docs_blocks docs/structure_fem.md`` rewrites every block between
+``python -m structure_fem.outputs.docs_blocks docs/structure_fem.md`` rewrites every block between
 ``<!-- BEGIN generated NAME -->`` and ``<!-- END generated NAME -->`` (:data:`BLOCKS`):
 the derived thresholds beside the thesis's (from the packaged ``limits.json``, itself checked
 against a fresh derivation by the tests), the pier (multi-span) rule of that record, the CuBot
@@ -170,7 +170,7 @@ def _record_keys(entries: list[dict]) -> set[str]:
     the key recomputed from the default table's inputs for the entry's structure, width and rows."""
     from structure_fem.analysis.study import candidate_structures
     from structure_fem.model.dynamics_cache import inputs_of, key_of
-    from structure_fem.outputs.outputs.runs import RunOptions, make_inputs
+    from structure_fem.outputs.runs import RunOptions, make_inputs
 
     inp, _ = make_inputs(RunOptions())
     structs = {s.name: s for s in candidate_structures(inp.connectors, narrow=True)}

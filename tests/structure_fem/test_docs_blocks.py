@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from structure_fem.outputs.outputs import docs_blocks as B
+from structure_fem.outputs import docs_blocks as B
 
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "structure_fem.md"
 README = Path(__file__).resolve().parents[2] / "README.md"

@@ -8,7 +8,7 @@ from dataclasses import replace
 import pytest
 
 from structure_fem.model.connectors import ConnectorSet
-from structure_fem.model.statics import dynamics_cache as dc
+from structure_fem.model import dynamics_cache as dc
 from structure_fem.model.structures import Structure
 
 pytest.importorskip("exudyn")
@@ -99,7 +99,7 @@ def test_a_corrupt_cache_file_is_recomputed_and_rewritten(setup):
 def test_the_packaged_allowances_are_the_current_models(tmp_path):
     """The shipped line allowance is what a fresh integration of today's model gives for the
     default record (a stale ``MODEL_VERSION`` or record shows here)."""
-    from structure_fem.outputs.outputs.runs import RunOptions, make_inputs
+    from structure_fem.outputs.runs import RunOptions, make_inputs
 
     from structure_fem.model.dynamics import dynamic_allowance_m
 
@@ -136,7 +136,7 @@ def _jobs(robot, conn, widths=(1, 2)):
 def test_prefill_integrates_in_workers_what_a_direct_integration_gives(setup, monkeypatch):
     """Two transients integrated side by side in worker processes are then served from the
     cache (no integration here) and equal, bit for bit, the same integration in this process."""
-    from structure_fem.model.statics import dynamics
+    from structure_fem.model import dynamics
 
     robot, conn, cache = setup
     jobs = _jobs(robot, conn)
@@ -159,7 +159,7 @@ def test_a_transient_that_fails_in_a_worker_fails_at_once_for_the_caller(setup, 
     """A worker's SolverFailure is remembered: the caller's own call raises it (and counts the
     width as failing) without integrating it a second time."""
     from structure_fem.errors import SolverFailure
-    from structure_fem.model.statics import dynamics
+    from structure_fem.model import dynamics
 
     robot, conn, cache = setup
     jobs = _jobs(replace(robot, mass_kg=robot.mass_kg * 1.37), conn, (3, 4))

@@ -9,7 +9,7 @@ import pytest
 
 pytest.importorskip("exudyn")
 
-from structure_fem.outputs.outputs.runs import packaged_limits  # noqa: E402
+from structure_fem.outputs.runs import packaged_limits  # noqa: E402
 
 from structure_fem.analysis.calibration import (  # noqa: E402
     MEASURED_TIP_M,
@@ -122,7 +122,7 @@ def test_aligned_two_lines_add_nothing_over_one_line(base):
 
 
 def test_packaged_limits_json_is_regenerated_from_the_packaged_properties():
-    """Fails when robot_properties.json or the model changed: run `python -m structure_fem.outputs.outputs.runs`."""
+    """Fails when robot_properties.json or the model changed: run `python -m structure_fem.outputs.runs`."""
     fresh = packaged_limits()
     shipped = json.loads(packaged_limits_path().read_text())
     assert json.loads(json.dumps(fresh.to_dict())) == shipped, (

@@ -13,7 +13,7 @@ class Block:
         if name.split('.')[0] in ('cadquery', 'OCP', 'exudyn', 'gmsh', 'skfem'):
             raise ImportError('blocked for this test: ' + name)
 sys.meta_path.insert(0, Block())
-import swarm_sim.runner, swarm_sim.render, swarm_sim.soak, swarm_sim.sweeps.export, swarm_sim.compiled
+import swarm_sim.runner, swarm_sim.render, swarm_sim.experiments.soak, swarm_sim.sweeps.export, swarm_sim.compiled
 from swarm_sim.runner import run_scenario
 r = run_scenario('case-d', 3, 1, 1, limits='thesis', max_time_s=5.0)
 print('ok', r.steps)
