@@ -7,8 +7,8 @@ from dataclasses import replace
 
 import pytest
 
-from structure_fem.model.connectors import ConnectorSet
 from structure_fem.model import dynamics_cache as dc
+from structure_fem.model.connectors import ConnectorSet
 from structure_fem.model.structures import Structure
 
 pytest.importorskip("exudyn")
@@ -99,9 +99,8 @@ def test_a_corrupt_cache_file_is_recomputed_and_rewritten(setup):
 def test_the_packaged_allowances_are_the_current_models(tmp_path):
     """The shipped line allowance is what a fresh integration of today's model gives for the
     default record (a stale ``MODEL_VERSION`` or record shows here)."""
-    from structure_fem.outputs.runs import RunOptions, make_inputs
-
     from structure_fem.model.dynamics import dynamic_allowance_m
+    from structure_fem.outputs.runs import RunOptions, make_inputs
 
     packaged = json.loads(dc.PACKAGED.read_text())
     line = [e for e in packaged if e["structure"] == "line"]

@@ -9,8 +9,6 @@ import pytest
 
 pytest.importorskip("exudyn")
 
-from structure_fem.outputs.runs import packaged_limits  # noqa: E402
-
 from structure_fem.analysis.calibration import (  # noqa: E402
     MEASURED_TIP_M,
     calibrate,
@@ -20,6 +18,7 @@ from structure_fem.analysis.calibration import (  # noqa: E402
 from structure_fem.analysis.study import StudyInputs, derive, limits_from  # noqa: E402
 from structure_fem.limits import load_limits, packaged_limits_path  # noqa: E402
 from structure_fem.model.structures import GRAVITY  # noqa: E402
+from structure_fem.outputs.runs import packaged_limits  # noqa: E402
 
 
 def _th(d) -> dict:
