@@ -37,8 +37,10 @@ def cache_dir() -> Path:
 
 def _mesh(m) -> tuple[np.ndarray, np.ndarray]:
     mesh = m.to_mesh()
-    return np.ascontiguousarray(mesh.vert_properties, dtype=np.float32), \
-        np.ascontiguousarray(mesh.tri_verts, dtype=np.uint32)
+    # owned, writable copies: manifold3d >= 3.5 hands out read-only views of its mesh, and its
+    # Mesh() refuses read-only arrays
+    return np.array(mesh.vert_properties, dtype=np.float32, order="C"), \
+        np.array(mesh.tri_verts, dtype=np.uint32, order="C")
 
 
 def _manifold(arrays):

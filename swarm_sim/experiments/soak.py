@@ -216,12 +216,17 @@ def _append(fh, rec: dict) -> None:
     fh.flush()
 
 
+def _header_bytes(header: dict) -> bytes:
+    """The journal's first line as _append writes it (without its newline)."""
+    return json.dumps(header, sort_keys=True).encode("utf-8")
+
+
 def _read_journal(path: Path, header: dict) -> tuple[dict[int, dict], float, list[str]]:
     """The finished draws of an earlier session (index -> outcome) and its wall time; an
     absent or empty file is a fresh start. A journal of another soak is refused. A torn last
     line (the process was killed mid-write, even inside a UTF-8 character) is cut, so the
     soak resumes from the last whole record; a whole last line without its newline gets one; a
-    torn header alone is a fresh start. Any other bad line is one error naming its number."""
+    torn header alone (a prefix of this soak's header) is a fresh start. Any other bad line is one error naming its number."""
     if path.is_dir():
         raise InputError(f"--journal {path} is a directory")
     if not path.exists() or path.stat().st_size == 0:
@@ -243,7 +248,10 @@ def _read_journal(path: Path, header: dict) -> tuple[dict[int, dict], float, lis
             if not isinstance(rec, dict):
                 raise ValueError("not a record")
         except (UnicodeDecodeError, ValueError):
-            if last_torn:
+            # a torn header must be the start of the header this soak writes, a torn record the
+            # start of one ({"); anything else is not ours to cut (a user's file is never truncated)
+            ours = (_header_bytes(header).startswith(raw) if n == 1 else raw[:2] == b'{"'[:len(raw)])
+            if last_torn and ours:
                 keep = len(data) - len(raw)
                 break
             if n == 1:

@@ -65,8 +65,8 @@ def test_missing_file_is_input_error(tmp_path):
     ("length_m", float("nan"), "length_m must be > 0"),
     ("inertia_kg_m2", (1e-3, 1e-3, 5e-3, 0, 0, 0), "triangle inequality"),
     ("com_m", (0.0, 0.0), "com_m"),
-    ("solid_print_mass_kg", 0.1, "solid_print_mass_kg must be >= mass_kg"),
-    ("solid_print_mass_kg", float("inf"), "solid_print_mass_kg must be >= mass_kg"),
+    ("solid_print_mass_kg", 0.1, r"solid_print_mass_kg \S+ must be >= mass_kg"),
+    ("solid_print_mass_kg", float("inf"), r"solid_print_mass_kg \S+ must be >= mass_kg"),
     ("solid_print_mass_source", None, "needs a solid_print_mass_source"),
 ])
 def test_bad_values_are_named(props, field, value, match):

@@ -70,3 +70,12 @@ def test_the_command_resumes_a_torn_journal(cli, journal, tmp_path):
     res = cli("sim", "soak", "--runs", "1", "--seed", "5", "--journal", str(f))
     assert res.code == 0, res.err
     assert f.read_bytes().endswith(b"\n")
+
+
+def test_a_file_that_is_no_journal_is_refused_and_kept(journal, tmp_path):
+    _data, header = journal
+    f = tmp_path / "other.json"
+    f.write_bytes(b'{"schema_version": 1, "robots": [tru')  # one torn line, but not this soak's header
+    with pytest.raises(InputError, match="not a soak journal"):
+        _read_journal(f, header)
+    assert f.read_bytes() == b'{"schema_version": 1, "robots": [tru'  # never truncated
