@@ -6,6 +6,7 @@ import json
 import os
 import shutil
 import tempfile
+from pathlib import Path
 
 import pytest
 
@@ -37,6 +38,39 @@ def pytest_unconfigure(config):
     if d:
         shutil.rmtree(d, ignore_errors=True)
         os.environ.pop("VOIDCROSS_TEST_CACHE", None)
+
+
+def shared_once(name: str, build) -> Path:
+    """A directory built once per test session for every xdist worker: ``build(path)`` fills
+    ``path`` in the first worker that asks; the others wait on the lock, then read the same
+    directory (expensive results a test is not about: a CAD export, the cad pipeline stage).
+    Callers treat it as read-only. Outside a session cache (``VOIDCROSS_TEST_KEEP_CACHE``) it is
+    a fresh directory per process. A build that raises leaves nothing behind: the next asker
+    builds again (and fails the same way, in its own test)."""
+    import fcntl
+
+    root = os.environ.get("VOIDCROSS_TEST_CACHE") or tempfile.mkdtemp(prefix="voidcross-test-once-")
+    base = Path(root) / "once"
+    base.mkdir(parents=True, exist_ok=True)
+    final = base / name
+    with open(base / f"{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes (also if this worker dies)
+        if not (final / ".done").exists():
+            shutil.rmtree(final, ignore_errors=True)  # a build cut short (no .done) starts again
+            final.mkdir()
+            try:
+                build(final)  # in place: paths the build records stay valid
+            except BaseException:
+                shutil.rmtree(final, ignore_errors=True)
+                raise
+            (final / ".done").touch()
+    return final
+
+
+@pytest.fixture(scope="session")
+def once():
+    """:func:`shared_once` as a fixture: ``once("name", build) -> Path``."""
+    return shared_once
 
 
 class CliResult:

@@ -54,22 +54,22 @@ def test_dock_reports_every_pair(cli, pairs):
     assert all(r["ok"] for r in rows.values())
 
 
-def test_pipeline_stage_sets_the_context(tmp_path, pairs):
+def test_pipeline_stage_sets_the_context(cad_pipeline):
+    """The cad stage (run once per session by the ``cad_pipeline`` fixture: test_slicing reads
+    its sliced manifest too)."""
     from cubot_cad.properties import RobotPropertiesFile
-    from voidcross.commands.cad import pipeline_stage
 
-    ctx: dict = {}
-    line = pipeline_stage(tmp_path / "cad", ctx)
+    cad, ctx, line = cad_pipeline
     assert "\n" not in line and "CuBot" in line
     assert RobotPropertiesFile.load(ctx["robot_properties"]).get("cubot").mass_kg > 0.2
-    assert ctx["cad_dir"] == str(tmp_path / "cad")
-    assert (tmp_path / "cad" / "manifest.json").exists()
+    assert ctx["cad_dir"] == str(cad)
+    assert (cad / "manifest.json").exists()
     # what `make demo`'s report picks up from the cad dir: renders (PNG) and 3D models (GLB)
-    pngs = {p.name for p in (tmp_path / "cad").rglob("*.png")}
+    pngs = {p.name for p in cad.rglob("*.png")}
     assert {"cubot.png", "bridge-cubot-line.png"} <= pngs
-    glbs = {p.name for p in (tmp_path / "cad").rglob("*.glb")}
+    glbs = {p.name for p in cad.rglob("*.glb")}
     assert glbs == {"cubot.glb", "octbot.glb", "cube-robot.glb", "platform.glb", "bridge-cubot-line.glb"}
-    for p in (tmp_path / "cad").rglob("*"):
+    for p in cad.rglob("*"):
         if p.suffix in (".png", ".glb"):
             assert p.read_bytes()[:4] == (b"\x89PNG" if p.suffix == ".png" else b"glTF"), p
     assert "GLB" in line and "renders" in line

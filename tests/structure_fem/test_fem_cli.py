@@ -144,16 +144,28 @@ def test_non_positive_stiffness_in_properties_is_exit_2(cli, tmp_path):
 def test_pipeline_stage_sets_limits_and_fem_dir(tmp_path, test_properties, monkeypatch):
     """The stage's glue: it derives from the cad stage's record and hands limits.json and its
     folder on. Without the thesis's tapering arches (20 solves that retry for minutes on the
-    soft test robot; test_never_crash runs them on the real path): this test is about the hand-over."""
+    soft test robot; test_never_crash runs them on the real path) and on voids 1..6 by the static
+    tip (the default dynamic table to 30 widths cost 255 s here; test_never_crash integrates the
+    dynamic path): this test is about the hand-over."""
     import structure_fem.outputs.runs as runs
     from voidcross.commands.fem import pipeline_stage
 
     monkeypatch.setattr(runs, "tapered_arches", lambda d, thesis=None, progress=None: [])
+    real = runs.run_table
+    seen: list = []
+
+    def small(out, opts, **kw):  # the stage's own options, narrowed to voids 1..6 and the static tip
+        seen.append(opts)
+        return real(out, replace(opts, max_width=6, dynamic=False), **kw)
+
+    monkeypatch.setattr(runs, "run_table", small)
     ctx: dict = {"robot_properties": str(test_properties)}
     line = pipeline_stage(tmp_path / "fem", ctx)
     assert "derived thresholds" in line and "thesis tapering arches hold at" in line
     assert StructureLimits.load(ctx["limits"]).source == "derived"
     assert (tmp_path / "fem" / "selection_table.md").exists() and ctx["fem_dir"] == str(tmp_path / "fem")
+    # the stage asked for the default table (the launch transients on) from the cad stage's record
+    assert seen[0].dynamic is True and seen[0].properties == str(test_properties)
 
 
 def test_study_writes_plots_and_a_sensitivity_that_moves_the_right_way(tmp_path, test_properties):
