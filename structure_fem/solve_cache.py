@@ -19,6 +19,7 @@ file is pruned to its newest :data:`MAX_ENTRIES` entries.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import os
 import pickle
@@ -35,6 +36,8 @@ _CONN: sqlite3.Connection | None = None
 _CONN_PATH: Path | None = None
 _FAILED = object()
 _PUTS = 0
+_LOCK_FD: int | None = None
+_LOCK_PATH: Path | None = None
 
 
 def enabled() -> bool:
@@ -129,10 +132,53 @@ def cached_solve(solver, failure_type, config, robot, conn, flexible, options):
         if ok is _FAILED:
             raise failure_type(v)
         return v
-    try:
-        res = solver(config, robot, conn, flexible, options)
-    except failure_type as exc:
-        _put(key, False, str(exc))
-        raise
-    _put(key, True, res)
+    with _claim(key):  # another process solving the same key: wait for it, then read its result
+        hit = _get(key)
+        if hit is not None:
+            ok, v = hit
+            if ok is _FAILED:
+                raise failure_type(v)
+            return v
+        try:
+            res = solver(config, robot, conn, flexible, options)
+        except failure_type as exc:
+            _put(key, False, str(exc))
+            raise
+        _put(key, True, res)
     return res
+
+
+#: Lock slots in ``solves.lock`` (one byte each; two keys on one slot only wait for each other).
+LOCK_SLOTS = 4093
+
+
+@contextlib.contextmanager
+def _claim(key: str):
+    """Hold the key's byte of ``solves.lock`` (a POSIX record lock, released if the process dies)
+    while it is solved, so processes sharing the cache (``fem table`` twice, xdist workers) solve
+    a configuration once between them. No lock file (read-only location): no waiting."""
+    try:
+        import fcntl
+
+        if _LOCK_FD is None or _LOCK_PATH != cache_path():
+            _open_lock()
+        slot = int(key[:12], 16) % LOCK_SLOTS
+        fcntl.lockf(_LOCK_FD, fcntl.LOCK_EX, 1, slot)
+    except (OSError, ImportError, TypeError):
+        yield
+        return
+    try:
+        yield
+    finally:
+        try:
+            fcntl.lockf(_LOCK_FD, fcntl.LOCK_UN, 1, slot)
+        except OSError:
+            pass
+
+
+def _open_lock() -> None:
+    global _LOCK_FD, _LOCK_PATH
+    p = cache_path()
+    p.parent.mkdir(parents=True, exist_ok=True)
+    _LOCK_FD = os.open(p.with_suffix(".lock"), os.O_RDWR | os.O_CREAT, 0o644)
+    _LOCK_PATH = p

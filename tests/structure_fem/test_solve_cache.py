@@ -86,3 +86,42 @@ def test_it_can_be_turned_off(monkeypatch, counted, make_robot):
     solve(CFG, make_robot())
     solve(CFG, make_robot())
     assert len(counted) == 2
+
+
+def _slow_solver(config, robot, conn, flexible, options):
+    """A stand-in solve that takes 1 s and says it ran (one line per real solve)."""
+    import time
+
+    with open(config, "a") as fh:  # ``config`` is the count file's path here
+        fh.write("solved\n")
+    time.sleep(1.0)
+    return {"tip_mm": 1.25}
+
+
+def _solve_in_child(count_file, cache, out):
+    import os
+
+    os.environ["XDG_CACHE_HOME"] = cache
+    solve_cache._CONN = solve_cache._LOCK_FD = None  # the child's own connection and lock
+    res = solve_cache.cached_solve(_slow_solver, SolverFailure, count_file, "robot", "conn", False, "options")
+    out.put(res)
+
+
+def test_two_processes_asking_for_one_solve_solve_it_once(tmp_path, monkeypatch):
+    """Two processes sharing a cache (two `fem table`s, the test workers) ask for the same
+    configuration at once: one solves, the other waits on the key's lock and reads its result."""
+    import multiprocessing as mp
+
+    monkeypatch.delenv("VOIDCROSS_SOLVE_CACHE", raising=False)
+    count = tmp_path / "count.txt"
+    ctx = mp.get_context("fork")
+    q = ctx.Queue()
+    procs = [ctx.Process(target=_solve_in_child, args=(str(count), str(tmp_path / "cache"), q)) for _ in range(2)]
+    for p in procs:
+        p.start()
+    results = [q.get(timeout=60) for _ in procs]
+    for p in procs:
+        p.join(60)
+        assert p.exitcode == 0
+    assert results == [{"tip_mm": 1.25}] * 2
+    assert count.read_text() == "solved\n"  # once, not twice
