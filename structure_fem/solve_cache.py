@@ -14,7 +14,9 @@ costs (`voidcross fem bench` reports the table both ways).
 ``VOIDCROSS_SOLVE_CACHE=0`` turns it off (benchmarks of the solver itself; the cold figure).
 The cache is the user's own (pickles are only read from there); an unreadable or corrupt file
 is ignored (solved again, never trusted), and a read-only location just means no caching. The
-file is pruned to its newest :data:`MAX_ENTRIES` entries.
+file is pruned to its newest :data:`MAX_ENTRIES` entries. Processes sharing the file claim a key
+while they solve it (:func:`_claim`): a second process asking for the same configuration waits
+and reads the first one's result instead of solving it again.
 """
 
 from __future__ import annotations
