@@ -35,9 +35,14 @@ def modified_properties(tmp_path_factory, make_robot):
                        make_robot(mass=0.39, k=160.0, backlash=0.002))
 
 
-def test_table_json_outputs_and_properties_change_the_table(cli, tmp_path, test_properties, modified_properties):
-    base = cli("fem", "table", "--static", "--out", str(tmp_path / "base"), "--properties", str(test_properties), "--json",
-               "--max-width", "8")
+def test_table_json_outputs_and_properties_change_the_table(cli, tmp_path, test_properties, modified_properties,
+                                                            monkeypatch):
+    import structure_fem.outputs.runs as runs
+
+    with monkeypatch.context() as m:  # the base table is compared by its thresholds and records only
+        m.setattr(runs, "tapered_arches", lambda d, thesis=None, progress=None: [])
+        base = cli("fem", "table", "--static", "--out", str(tmp_path / "base"), "--properties", str(test_properties),
+                   "--json", "--max-width", "8")
     assert base.code == 0, base.err
     res = cli("fem", "table", "--static", "--out", str(tmp_path), "--properties", str(modified_properties), "--json",
               "--docs", str(tmp_path / "docs"), "--max-width", "8")
