@@ -190,6 +190,15 @@ class ConnectorProperties:
     #: emergent hinge (:mod:`structure_fem.model.hinge`) puts its tension rows. Empty: not known (records
     #: written before it existed, couplings that are not pinned).
     pin_levers_m: tuple[float, ...] = ()
+    #: Axial preload (N) that presses the faces together when locked (the wedge latch,
+    #: :mod:`cubot_cad.couplings.preload`: from the latch servo's torque, the wedge and the friction);
+    #: 0: none (a clearance coupling). The model pre-stretches the tension rows by it.
+    preload_n: float = 0.0
+    #: Static friction coefficient between the pressed faces (0: not stated); with ``preload_n`` it
+    #: says what shear the faces hold (``friction x preload``), reported, not counted on.
+    friction_coefficient: float = 0.0
+    #: Where ``preload_n`` and ``friction_coefficient`` come from (empty when both are 0).
+    preload_source: str = ""
 
     def play_of(self, feature: str) -> FeaturePlay | None:
         """The play of ``feature`` (None if the record has none)."""
@@ -216,6 +225,12 @@ class ConnectorProperties:
         for v in self.pin_levers_m:
             require(_finite(v) and 0 <= v < 1, f"{self.kind}.pin_levers_m must be lengths in [0, 1) m, got {v!r}")
         require(self.backlash_rad < 0.5, f"{self.kind}.backlash_rad {self.backlash_rad} is not a small angle (< 0.5 rad)")
+        require(_finite(self.preload_n) and 0 <= self.preload_n < 1e4,
+                f"{self.kind}.preload_n must be in [0, 1e4) N, got {self.preload_n!r}")
+        require(_finite(self.friction_coefficient) and 0 <= self.friction_coefficient <= 1.5,
+                f"{self.kind}.friction_coefficient must be in [0, 1.5], got {self.friction_coefficient!r}")
+        require(not (self.preload_n > 0 or self.friction_coefficient > 0) or bool(self.preload_source),
+                f"{self.kind}: a preload or friction needs its preload_source")
 
 
 @dataclass(frozen=True)

@@ -35,23 +35,31 @@ CONTACT_GAP_MM = 0.01
 MIN_LIP_MM = 0.8
 
 
-def front_rear_play_mm(spec) -> dict[str, float]:
+def front_rear_play_mm(spec, stretch_mm: float = 0.0) -> dict[str, float]:
     """Play of the front-rear coupling per feature (mm), from the spec's clearances.
 
     ``tension``: pin head's axial clearance in plate (b)'s counterbore (its depth less the head)
     plus the blade's clearance to the pin groove's shoulder (half of groove width less blade);
+    with the wedge latch (``spec.wedge``) what its draw cannot take up of the head's clearance
+    (plus ``stretch_mm``, the pins' stretch under the preload), the blade bearing on the cone
+    (:meth:`~cubot_cad.couplings.preload.WedgeLatch.residual_play_mm`: 0 for the design's prints).
     ``vertical_slip``: the pin's radial clearance in its own bores plus in the mating robot's
     wall and latch bores (both are pin + 2 clearances across)."""
     head = spec.locking_plate_mm - spec.head_mm - spec.head_wall_mm
     blade = (spec.separation_mm - spec.blade_mm) / 2
     bore = spec.clearance_mm  # (pin + 2 c - pin) / 2, every bore the pin passes
-    return {"head_in_counterbore": head, "blade_in_groove": blade, "tension": head + blade,
-            "own_bore": bore, "mating_bore": bore, "vertical_slip": 2 * bore}
+    out = {"head_in_counterbore": head, "blade_in_groove": blade, "tension": head + blade,
+           "own_bore": bore, "mating_bore": bore, "vertical_slip": 2 * bore}
+    if spec.wedge is not None:
+        out.update(blade_in_groove=0.0, tension=spec.wedge.residual_play_mm(spec, head, stretch_mm))
+    return out
 
 
 def front_rear(spec, pin_heights_mm: list[float], gap_mm: float, youngs_modulus_pa: float,
-               height_mm: float) -> ConnectorProperties:
-    """Grooved pins in engagement latches. ``pin_heights_mm``: z of every pin (robot frame)."""
+               height_mm: float, servo_torque_nm: float | None = None, servo_source: str = "") -> ConnectorProperties:
+    """Grooved pins in engagement latches. ``pin_heights_mm``: z of every pin (robot frame).
+    A wedge latch (``spec.wedge``) needs ``servo_torque_nm``, the latch servo's stall torque on each
+    blade (``servo_source`` names it): its preload and residual play come from it."""
     area = math.pi * (spec.groove_diameter_mm / 2) ** 2 * 1e-6
     head_end = spec.head_x_mm + spec.head_mm
     groove_start = spec.design_gap_mm + spec.wall_mm + 2 * spec.plate_mm
@@ -63,11 +71,30 @@ def front_rear(spec, pin_heights_mm: list[float], gap_mm: float, youngs_modulus_
     arms = [z - hinge for z in pin_heights_mm]
     lever = max(arms)
     k_rot = sum(k_pin * (a * 1e-3) ** 2 for a in arms)
-    pl = front_rear_play_mm(spec)
+    preload = {}
+    stretch = 0.0
+    if spec.wedge is not None:
+        if servo_torque_nm is None or not servo_torque_nm > 0:
+            raise ValueError("a wedge latch's coupling needs the latch servo's torque (servo_torque_nm > 0)")
+        from cubot_cad.couplings.preload import FRICTION_SOURCE, wedge_summary
+
+        w = wedge_summary(spec, spec.wedge, servo_torque_nm, len(pin_heights_mm), k_pin * len(pin_heights_mm))
+        stretch = w["stretch_mm"]
+        preload = {"preload_n": w["preload_n"], "friction_coefficient": spec.wedge.friction,
+                   "preload_source": (f"wedge latch: {servo_source or f'{servo_torque_nm:g} N m'} stall torque on "
+                                      f"each blade, slot taper {w['taper_deg']:.3g} deg, cone "
+                                      f"{spec.wedge.cone_deg:g} deg, friction {spec.wedge.friction:g} "
+                                      f"({FRICTION_SOURCE}); {w['preload_per_pin_n']:.3g} N per pin")}
+    pl = front_rear_play_mm(spec, stretch)
+    if spec.wedge is not None:
+        tension_text = (f"wedge latch: pin head's {pl['head_in_counterbore']:.3g} mm in its counterbore + "
+                        f"{stretch:.2g} mm preload stretch, less the wedge's {spec.wedge.take_up_mm(spec):.3g} mm "
+                        f"draw (the blade bears on the groove's cone)")
+    else:
+        tension_text = (f"pin head in its counterbore ({pl['head_in_counterbore']:.3g} mm) + latch blade in the "
+                        f"pin groove ({pl['blade_in_groove']:.3g} mm), in series")
     play = (
-        FeaturePlay("tension", "x", "tension", pl["tension"] * 1e-3,
-                    f"pin head in its counterbore ({pl['head_in_counterbore']:.3g} mm) + latch blade in the "
-                    f"pin groove ({pl['blade_in_groove']:.3g} mm), in series"),
+        FeaturePlay("tension", "x", "tension", pl["tension"] * 1e-3, tension_text),
         FeaturePlay("vertical_slip", "z", "both", pl["vertical_slip"] * 1e-3,
                     f"pin in its own bores ({pl['own_bore']:.3g} mm radial) + in the mating robot's wall and "
                     f"latch bores ({pl['mating_bore']:.3g} mm radial)"),
@@ -76,7 +103,7 @@ def front_rear(spec, pin_heights_mm: list[float], gap_mm: float, youngs_modulus_
         kind="front_rear", rotational_stiffness_nm_per_rad=k_rot,
         axial_stiffness_n_per_m=k_pin * len(pin_heights_mm),
         backlash_rad=pl["tension"] / lever, gap_m=(gap_mm if gap_mm >= CONTACT_GAP_MM else 0.0) * 1e-3,
-        height_m=height_mm * 1e-3, play=play, pin_levers_m=tuple(a * 1e-3 for a in arms),
+        height_m=height_mm * 1e-3, play=play, pin_levers_m=tuple(a * 1e-3 for a in arms), **preload,
         provenance=(f"hand formula: {len(pin_heights_mm)} pins as axial bars E A_groove / L (head to groove), "
                     f"k_rot = sum k_pin a_i^2 about the hinge at z = {hinge:g} mm; robots and walls rigid; "
                     f"pitch play = tension play / highest pin ({lever:.3g} mm)"))

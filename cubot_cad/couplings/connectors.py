@@ -24,6 +24,7 @@ import math
 from dataclasses import dataclass
 from typing import ClassVar
 
+from cubot_cad.couplings.preload import WedgeLatch
 from cubot_cad.part import (
     DEFAULT_CLEARANCE_MM,
     MIN_WALL_MM,
@@ -86,9 +87,16 @@ class FrontRearSpec:
     #: Screws through the block stack into the wall (nut behind): clearance holes from the fastener table.
     screw_size: str = "M3"
     clearance_mm: float = DEFAULT_CLEARANCE_MM
+    #: The wedge latch (:mod:`cubot_cad.couplings.preload`): a cone on the groove's tip side and tapered
+    #: blade slots that draw the pins in and preload the faces (no free play). None: the clearance latch
+    #: (flat blade in a flat groove, ``2 clearance_mm`` of tension play), the thesis's drawing.
+    wedge: WedgeLatch | None = None
 
     def __post_init__(self) -> None:
         check_clearance(self.clearance_mm, "clearance_mm")
+        if self.wedge is not None:
+            need(isinstance(self.wedge, WedgeLatch), f"wedge must be a WedgeLatch or None, got {self.wedge!r}")
+            self.wedge.validate(self)
         check_lengths(self, ("wall_mm", "plate_mm", "pin_diameter_mm", "groove_diameter_mm", "head_shoulder_mm",
                              "head_mm", "head_wall_mm", "blade_mm", "pocket_depth_mm", "pin_circle_mm", "block_mm",
                              "blade_radius_mm", "pin_flat_max_mm"), ("pin_chamfer_mm", "hole_chamfer_mm"))
@@ -113,7 +121,7 @@ class FrontRearSpec:
         # (perpendicular distance from a point at radius rho, angle a off a vertex: R/2 - rho cos(60 - a)).
         inr = self.blade_radius_mm / 2
         th = math.radians(self.blade_turn_deg)
-        wall_slot = inr - self.pin_circle_mm * math.cos(math.radians(60) - th) - self.slot_width_mm / 2
+        wall_slot = inr - self.pin_circle_mm * math.cos(math.radians(60) - th) - self.slot_half_width_mm(0.0)
         wall_entry = inr - self.pin_circle_mm * math.cos(math.radians(60)) - self.pin_diameter_mm / 2 - c
         need(at_least(min(wall_slot, wall_entry), MIN_WALL_MM),
              f"blade_radius_mm {self.blade_radius_mm:g} is too small for pin_circle_mm {self.pin_circle_mm:g} "
@@ -221,6 +229,32 @@ class FrontRearSpec:
     @property
     def slot_width_mm(self) -> float:
         return self.groove_diameter_mm + 2 * self.clearance_mm
+
+    def slot_half_width_mm(self, f: float) -> float:
+        """Half-width of a blade slot a fraction ``f`` of the turn from its open end (0) to its locking
+        end (1): constant for the clearance latch, tapering for the wedge latch."""
+        if self.wedge is None:
+            return self.slot_width_mm / 2
+        h0, h1 = self.wedge.entry_half_width_mm(self), self.wedge.lock_half_width_mm(self)
+        return h0 + (h1 - h0) * f
+
+    @property
+    def pin_draw_mm(self) -> float:
+        """How far a locked latch draws the pins out of their robot (mm): the head's axial clearance for
+        the wedge latch (the head then bears on the front of its counterbore), 0 for the clearance latch."""
+        return 0.0 if self.wedge is None else self.clearance_mm
+
+    @property
+    def locked_turn_deg(self) -> float:
+        """The blade's turn when locked on a nominal print (deg): the full turn for the clearance latch;
+        for the wedge latch where the slot's edges meet the cone of pins drawn in by :attr:`pin_draw_mm`
+        (the servo stalls there; the rest of the turn is the reach kept for looser prints)."""
+        if self.wedge is None:
+            return self.blade_turn_deg
+        w = self.wedge
+        h_c = w.lock_half_width_mm(self) + (w.take_up_mm(self) - self.pin_draw_mm) * w.tan_cone
+        h0, h1 = w.entry_half_width_mm(self), w.lock_half_width_mm(self)
+        return self.blade_turn_deg * min(1.0, max(0.0, (h0 - h_c) / (h0 - h1)))
 
     @property
     def blade_end_mm(self) -> float:
@@ -538,6 +572,9 @@ class GroovedPin(Part):
     def groove_mm(self) -> tuple[float, float]:
         """x-range of the groove in the set frame (aligned with the latch blade when docked)."""
         s = self.spec
+        if s.wedge is not None:
+            g0, x_s, _x_e = s.wedge.groove_x_mm(s)
+            return (g0, x_s)
         g0 = s.design_gap_mm + s.wall_mm + 2 * s.plate_mm
         return (g0, g0 + s.separation_mm)
 
@@ -552,8 +589,12 @@ class GroovedPin(Part):
         ch = s.pin_chamfer_mm
         parts = [cyl(s.head_diameter_mm / 2, s.head_mm, (x_head, 0, 0), X),
                  cyl(r, g0 - x_head - s.head_mm, (x_head + s.head_mm, 0, 0), X),
-                 cyl(rg, g1 - g0, (g0, 0, 0), X),
-                 cyl(r, tip - g1 - ch, (g1, 0, 0), X)]
+                 cyl(rg, g1 - g0, (g0, 0, 0), X)]
+        if s.wedge is not None:  # the groove's tip side: the cone the wedge slots draw the pin by
+            _g0, x_s, x_e = s.wedge.groove_x_mm(s)
+            parts += [cone(rg, r, x_e - x_s, (x_s, 0, 0), X), cyl(r, tip - x_e - ch, (x_e, 0, 0), X)]
+        else:
+            parts.append(cyl(r, tip - g1 - ch, (g1, 0, 0), X))
         if ch > 0:  # the lead-in: a 45 deg chamfer on the tip
             parts.append(cone(r, r - ch, ch, (tip - ch, 0, 0), X))
         pin = fuse_all(parts)
@@ -599,17 +640,29 @@ class TriangularBlade(Part):
         th = s.blade_turn_deg
         for a in PIN_ANGLES_DEG:
             a0, a1 = math.radians(a - th), math.radians(a)
+            if s.wedge is not None:  # the tapered slot: open end at a1 (the entry), locking end at a0
+                n = 24
+                fs = [k / n for k in range(n + 1)]
+                ang = [a1 + (a0 - a1) * f for f in fs]
+                hw = [s.slot_half_width_mm(f) for f in fs]
+                outer = [((r + h) * math.cos(g), (r + h) * math.sin(g)) for h, g in zip(hw, ang, strict=True)]
+                inner = [((r - h) * math.cos(g), (r - h) * math.sin(g)) for h, g in zip(hw, ang, strict=True)]
+                cutters.append(prism(outer + inner[::-1], "YZ", x0 - 0.1, t))
+                cutters.append(cyl(hw[-1], t, (x0 - 0.1, r * math.cos(a0), r * math.sin(a0)), X))
+                cutters.append(cyl(s.pin_diameter_mm / 2 + c, t, (x0 - 0.1, r * math.cos(a1), r * math.sin(a1)), X))
+                continue
             R = 3 * r
             wedges.append(prism([(0, 0), (R * math.cos(a0), R * math.sin(a0)),
                                  (R * math.cos((a0 + a1) / 2) * 1.2, R * math.sin((a0 + a1) / 2) * 1.2),
                                  (R * math.cos(a1), R * math.sin(a1))], "YZ", x0 - 0.1, t))
             cutters.append(cyl(w / 2, t, (x0 - 0.1, r * math.cos(a0), r * math.sin(a0)), X))
             cutters.append(cyl(s.pin_diameter_mm / 2 + c, t, (x0 - 0.1, r * math.cos(a1), r * math.sin(a1)), X))
-        cutters.append(ring.intersect(fuse_all(wedges)))
+        if wedges:
+            cutters.append(ring.intersect(fuse_all(wedges)))
         cutters.append(s.d_profile(x0 - 0.1, t, c))  # the D bore the drive shaft turns the blade by
         shape = cut_all(blade, cutters)
         if self.locked:
-            shape = rotated(shape, X, th)
+            shape = rotated(shape, X, s.locked_turn_deg)
         return shape
 
 

@@ -35,6 +35,7 @@ from cubot_cad.couplings.connectors import (
     pin_set_parts,
 )
 from cubot_cad.couplings.latch_drive import SHAFT_INTO_COUPLER_MM, LatchDriveSpec
+from cubot_cad.couplings.preload import WedgeLatch
 from cubot_cad.couplings.twist import (
     STANDIN_GAP_MM,
     KeyBearing,
@@ -56,6 +57,8 @@ from cubot_cad.part import (
 from cubot_cad.robots.base import Placed, Robot
 
 ENVELOPE_MM = (100.0, 100.0, 85.0)
+#: The CuBot's front-rear couplings (:attr:`CuBot.front_rear_coupling`).
+FRONT_REAR_COUPLINGS = ("wedge", "clearance")
 #: The drive motors' stand-in (x, y, z mm) and how far its centre sits above the wheel axle: an N20
 #: gearmotor, 12 x 10 mm, 9 mm gearbox + 15 mm can = 24 mm along the axle (its 3 mm D-shaft goes into
 #: the wheel's hub). A 26 mm motor with a bracket does not fit beside the twist key's 13.4 mm shaft
@@ -308,6 +311,10 @@ class CuBot(Robot):
     pin_diameter_mm: float = 5.0
     groove_diameter_mm: float = 3.4
     clearance_mm: float = DEFAULT_CLEARANCE_MM
+    #: The front-rear coupling (:data:`FRONT_REAR_COUPLINGS`): ``"wedge"`` (the default since issue 38: the
+    #: wedge latch of :mod:`cubot_cad.couplings.preload`, no free play) or ``"clearance"`` (the thesis's
+    #: flat blade in a flat groove, 2 x the clearance of tension play; ``--set front_rear_coupling=clearance``).
+    front_rear_coupling: str = "wedge"
     fr: FrontRearSpec | None = field(default=None)
     rail: RailSpec | None = field(default=None)
     top: TopTwistSpec | None = field(default=None)
@@ -319,6 +326,8 @@ class CuBot(Robot):
 
     def __post_init__(self) -> None:
         check_clearance(self.clearance_mm, "clearance_mm")
+        need(self.front_rear_coupling in FRONT_REAR_COUPLINGS,
+             f"front_rear_coupling {self.front_rear_coupling!r} is not one of {', '.join(FRONT_REAR_COUPLINGS)}")
         check_dims(self, ("length_mm", "width_mm", "height_mm", "wall_mm", "floor_mm", "wheel_radius_mm",
                           "wheel_width_mm", "wheel_base_mm", "wheel_exposed_mm", "caster_ball_mm",
                           "caster_x_mm", "block_y_mm", "block_z_mm", "rail_z_mm", "pin_diameter_mm",
@@ -422,7 +431,8 @@ class CuBot(Robot):
     @cached_property
     def fr_spec(self) -> FrontRearSpec:
         return self.fr or FrontRearSpec(wall_mm=self.wall_mm, pin_diameter_mm=self.pin_diameter_mm,
-                                        groove_diameter_mm=self.groove_diameter_mm, clearance_mm=self.clearance_mm)
+                                        groove_diameter_mm=self.groove_diameter_mm, clearance_mm=self.clearance_mm,
+                                        wedge=WedgeLatch() if self.front_rear_coupling == "wedge" else None)
 
     @cached_property
     def rail_spec(self) -> RailSpec:
@@ -529,7 +539,9 @@ class CuBot(Robot):
             for part, offs in pin_set_parts(self.fr_spec):
                 for o in offs:
                     role = "pin" if part.name.endswith("pin") else "pinset"
-                    out.append(Placed(part, location((L / 2 + o[0], yb + o[1], self.block_z_mm + o[2])), role))
+                    # a locked wedge latch has drawn the pins out by the head's clearance (they bear on it)
+                    dx = self.fr_spec.pin_draw_mm if (blades_locked and role == "pin") else 0.0
+                    out.append(Placed(part, location((L / 2 + o[0] + dx, yb + o[1], self.block_z_mm + o[2])), role))
             for part, _offs in latch_set_parts(self.fr_spec, locked=blades_locked):
                 role = "blade" if "blade" in part.name else "latchset"
                 out.append(Placed(part, location((-L / 2, yb, self.block_z_mm), 180), role))
@@ -689,12 +701,20 @@ class CuBot(Robot):
                       "box", "hardware", (0.9, 0.2, 0.2), lump=True),
         ]
 
+    def latch_servo_torque(self) -> tuple[float, str]:
+        """The latch servo's stall torque on each blade (N m; the 1:1 gears of a geared drive pass it on)
+        and the sentence naming it (the servo table's datasheet row)."""
+        from cubot_cad.hardware.servos import servo
+
+        sv = servo(self.latch_spec.servo)
+        return sv.stall_torque_nm, f"{sv.maker} {sv.name} ({sv.stall_torque_kgf_cm:g} kgf cm at 4.8 V, datasheet)"
+
     def connector_properties(self, youngs_modulus_pa: float, gaps_mm: dict | None = None) -> tuple:
         gaps = gaps_mm or {}
         fr = self.fr_spec
         return (
             couplings.front_rear(fr, self.pin_heights_mm(), gaps.get("front_rear", fr.design_gap_mm),
-                                 youngs_modulus_pa, self.block_z_mm),
+                                 youngs_modulus_pa, self.block_z_mm, *self.latch_servo_torque()),
             couplings.side_rail(self.rail_spec, youngs_modulus_pa, self.rail_z_mm),
             couplings.top_twist(self.top_spec, youngs_modulus_pa, self.body_height_mm + self.top_spec.cover_mm,
                                 gaps.get("top_twist", self.top_spec.stand_mm)),

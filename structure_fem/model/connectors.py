@@ -63,6 +63,11 @@ class Joint:
     #: Lever arm (m) of every tension member about the hinge (the record's ``pin_levers_m``):
     #: the emergent hinge's tension rows (:mod:`structure_fem.model.hinge`); empty: not known.
     levers_m: tuple[float, ...] = ()
+    #: Axial preload (N) pressing the faces together (the wedge latch; the record's ``preload_n``):
+    #: the emergent hinge pre-stretches its tension rows by it and pre-compresses its face contacts.
+    preload_n: float = 0.0
+    #: Static friction between the pressed faces (the record's; reported with the preload, not used).
+    friction_coefficient: float = 0.0
 
     def __post_init__(self) -> None:
         _pos(f"{self.kind} rotational stiffness (N m/rad)", self.rotational_nm_per_rad)
@@ -72,6 +77,8 @@ class Joint:
         _nonneg(f"{self.kind} backlash (rad)", self.backlash_rad)
         _nonneg(f"{self.kind} height (m)", self.height_m)
         _nonneg(f"{self.kind} gap (m)", self.gap_m)
+        _nonneg(f"{self.kind} preload (N)", self.preload_n)
+        _nonneg(f"{self.kind} friction coefficient", self.friction_coefficient)
         for name in ("play_x", "play_z"):
             v = getattr(self, name)
             if len(v) != 2:
@@ -190,7 +197,8 @@ class ConnectorSet:
             return Joint(c.kind, c.rotational_stiffness_nm_per_rad, c.axial_stiffness_n_per_m,
                          c.backlash_rad, c.height_m, c.gap_m, **joint_play(c.play),
                          shear_n_per_m=c.shear_stiffness_n_per_m, provenance=c.provenance,
-                         levers_m=tuple(c.pin_levers_m))
+                         levers_m=tuple(c.pin_levers_m), preload_n=c.preload_n,
+                         friction_coefficient=c.friction_coefficient)
 
         return cls(joint(line), joint(kinds.get("side_rail")), joint(kinds.get("top_twist")))
 
@@ -209,5 +217,7 @@ class ConnectorSet:
                              "backlash_rad": j.backlash_rad, "play_x_m": list(j.play_x),
                              "play_z_m": list(j.play_z), "height_m": j.height_m, "levers_m": list(j.levers_m),
                              "provenance": j.provenance}
+                if j.preload_n > 0:
+                    out[name].update(preload_n=j.preload_n, friction_coefficient=j.friction_coefficient)
         out["hinge"] = self.hinge
         return out

@@ -88,6 +88,10 @@ class Axis:
     #: Length (m) the static solver's continuation widens the smoothing from (``start`` x this):
     #: the play of a band or a row; 0 for a contact (never widened, :func:`_contact`).
     scale: float = 0.0
+    #: A preloaded row (``tension`` with ``opening < 0``): its force is not set to zero at ``u = 0``, it
+    #: carries its share of the preload there (:func:`_preloaded_row`). A ``contact``'s ``opening`` > 0
+    #: shifts it so that it presses with its share of the preload at ``u = 0`` (:func:`_preloaded_contact`).
+    preloaded: bool = False
 
 
 FREE = Axis("free")
@@ -184,6 +188,28 @@ def _contact_scale(play: float, k_row: float, force_scale_n: float) -> float:
     return play if play > 0 else ZERO_PLAY_SCALE * force_scale_n / k_row
 
 
+def _preloaded_row(k: float, force_n: float, force_scale_n: float) -> Axis:
+    """A tension row pre-stretched to carry ``force_n`` at the docked position (the wedge latch's
+    preload share): ``k/2 [(u + d) + sqrt((u + d)^2 + e^2)]`` with ``d`` solved so that it is exactly
+    ``force_n`` at ``u = 0`` (``d = (4 d0^2 - e^2) / 4 d0``, ``d0 = force_n / k``); it goes slack only
+    once the joint has opened by about ``d0``."""
+    base = _row(k, 0.0, force_scale_n)
+    d0 = force_n / k
+    d = (4 * d0 * d0 - base.e * base.e) / (4 * d0)
+    return Axis("tension", k, 0.0, -d, base.e, base.k_reg, base.scale, preloaded=True)
+
+
+def _preloaded_contact(k: float, force_n: float, scale: float, force_scale_n: float) -> Axis:
+    """A face contact pressing with ``force_n`` at the docked position: shifted by ``s`` so that
+    ``k/2 [(u - s) - sqrt((u - s)^2 + e^2)] = -force_n`` at ``u = 0`` (``s = (q^2 - e^2) / 2 q``,
+    ``q = 2 force_n / k``); it separates once the joint has opened by about ``force_n / k``."""
+    base = _contact(k, scale, force_scale_n)
+    if force_n <= 0:
+        return base
+    q = 2 * force_n / k
+    return Axis("contact", k, 0.0, (q * q - base.e * base.e) / (2 * q), base.e, preloaded=True)
+
+
 def _band(k: float, play: tuple[float, float], force_scale_n: float) -> Axis:
     c, o = play
     gap = max(c, o)
@@ -202,14 +228,28 @@ def links(coupling, lay, force_scale_n: float, contact_n_per_m: float) -> tuple[
     if c.role == "front_rear":
         x_j = c.point_m[0]
         base = lay.bodies[c.a].z_m
-        out = [Link(c.a, c.b, (x_j, base + lever), _row(k * n, j.play_x[1], force_scale_n), FREE,
-                    f"pin row {lever * 1e3:.3g} mm above the underside")
-               for lever, k in rows(j)]
-        out.append(Link(c.a, c.b, c.point_m, FREE, _band(j.k_z * n, j.play_z, force_scale_n), "pin shear"))
+        rs = rows(j)
         kf = FACE_CONTACT_FACTOR * j.axial_n_per_m * n
         scale = _contact_scale(j.play_x[1], j.axial_n_per_m * n, force_scale_n)
+        preload = j.preload_n * n if j.play_x[1] <= 0 else 0.0  # a row with play left carries no preload
+        if preload > 0:
+            # the preload stretches every pin alike: row i carries k_i / k_axial of it; the faces press
+            # back with as much, shared between the edges so that the docked position is in equilibrium
+            # (the rows' moment about the bottom edge = the top edge's share x the height)
+            d0 = preload / (j.axial_n_per_m * n)
+            top = sum(k * n * d0 * lever for lever, k in rs) / lay.height_m
+            shares = {"bottom": preload - top, "top": top}
+            out = [Link(c.a, c.b, (x_j, base + lever), _preloaded_row(k * n, k * n * d0, force_scale_n), FREE,
+                        f"pin row {lever * 1e3:.3g} mm above the underside, preloaded {k * n * d0:.3g} N")
+                   for lever, k in rs]
+        else:
+            shares = {"bottom": 0.0, "top": 0.0}
+            out = [Link(c.a, c.b, (x_j, base + lever), _row(k * n, j.play_x[1], force_scale_n), FREE,
+                        f"pin row {lever * 1e3:.3g} mm above the underside")
+                   for lever, k in rs]
+        out.append(Link(c.a, c.b, c.point_m, FREE, _band(j.k_z * n, j.play_z, force_scale_n), "pin shear"))
         for z, what in ((base, "bottom"), (base + lay.height_m, "top")):
-            out.append(Link(c.a, c.b, (x_j, z), _contact(kf, scale, force_scale_n), FREE,
+            out.append(Link(c.a, c.b, (x_j, z), _preloaded_contact(kf, shares[what], scale, force_scale_n), FREE,
                             f"faces, {what} edge"))
         return tuple(out)
     if c.role == "top_twist":
@@ -239,8 +279,9 @@ def axis_force(ax: Axis, u: float, e: float | None = None) -> float:
         return 0.0
     if ax.kind == "lin":
         return k * u
-    if ax.kind == "contact":  # not zero at 0: see _contact
-        return 0.5 * k * (u - math.sqrt(u * u + e * e))
+    if ax.kind == "contact":  # not zero at 0: see _contact (shifted by its opening when preloaded)
+        w = u - ax.opening
+        return 0.5 * k * (w - math.sqrt(w * w + e * e))
     o = ax.opening
 
     def t(x: float) -> float:
@@ -248,7 +289,7 @@ def axis_force(ax: Axis, u: float, e: float | None = None) -> float:
         return 0.5 * k * (a + math.sqrt(a * a + e * e))
 
     if ax.kind == "tension":
-        return t(u) - t(0.0) + ax.k_reg * u
+        return t(u) - (0.0 if ax.preloaded else t(0.0)) + ax.k_reg * u
     c = ax.closing
 
     def f(x: float) -> float:
@@ -266,12 +307,15 @@ def _sym_force(esym, ax: Axis, x, ee):
     if ax.kind == "lin":
         return k * x, k
     if ax.kind == "contact":
-        r = esym.sqrt(x * x + ee * ee)
-        return 0.5 * k * (x - r), 0.5 * k * (1.0 - x / r)
+        w = x - ax.opening if ax.opening else x
+        r = esym.sqrt(w * w + ee * ee)
+        return 0.5 * k * (w - r), 0.5 * k * (1.0 - w / r)
     o = ax.opening
     a = x - o
     ra = esym.sqrt(a * a + ee * ee)
-    f = 0.5 * k * (a + ra) - 0.5 * k * (-o + esym.sqrt(o * o + ee * ee))
+    f = 0.5 * k * (a + ra)
+    if not ax.preloaded:
+        f = f - 0.5 * k * (-o + esym.sqrt(o * o + ee * ee))
     kt = 0.5 * k * (1.0 + a / ra)
     if ax.kind == "band":
         c = ax.closing
