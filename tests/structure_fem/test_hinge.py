@@ -21,6 +21,13 @@ def _cubot():
     return resolve(rec)[0]
 
 
+def _clearance(conn):
+    """The same couplings with the thesis's clearance latch: 2 x 0.2 mm of tension play, no preload
+    (the packaged CuBot has the wedge latch since issue 38)."""
+    fr = conn.front_rear
+    return replace(conn, front_rear=replace(fr, play_x=(0.0, 4e-4), backlash_rad=4e-4 / max(fr.levers_m), preload_n=0.0))
+
+
 def test_the_cad_gives_every_pin_its_lever_about_the_hinge():
     fr = next(r for r in default_properties().robots if r.name == "cubot").connector("front_rear")
     assert sorted(fr.pin_levers_m) == pytest.approx([0.0265] * 4 + [0.037] * 2)
@@ -77,7 +84,7 @@ def test_a_hogging_joint_turns_about_its_bottom_edge_by_the_play_over_the_top_pi
     """With stiff pins the root joint's rotation is the tension play over the upper pins' lever
     (37 mm), which is not an input: the record's dead band is ignored by this model."""
     robot = _cubot()
-    conn = replace(ConnectorSet.from_robot(robot).scaled(stiffness=20), hinge="emergent")
+    conn = replace(_clearance(ConnectorSet.from_robot(robot)).scaled(stiffness=20), hinge="emergent")
     r = _line(conn, robot)
     play = conn.front_rear.play_x[1]
     root = float(abs(r.joint_rotation_rad).max())
@@ -90,7 +97,7 @@ def test_a_hogging_joint_turns_about_its_bottom_edge_by_the_play_over_the_top_pi
 
 def test_the_hinge_moves_with_the_cads_pins_and_play():
     robot = _cubot()
-    conn = replace(ConnectorSet.from_robot(robot), hinge="emergent")
+    conn = replace(_clearance(ConnectorSet.from_robot(robot)), hinge="emergent")
     base = _line(conn, robot, w=3).tip_deflection_m
     # the same pins 20 % higher: every lever and so the rotational stiffness (k a^2) grow
     fr = conn.front_rear
@@ -107,7 +114,7 @@ def test_emergent_and_lumped_agree_where_they_should_and_the_emergent_joint_is_p
     """The lumped dead band (tension play / highest pin) is where the emergent joint's first row
     bears; the emergent one then stiffens as the second row bears, so it turns at least as far."""
     robot = _cubot()
-    conn = ConnectorSet.from_robot(robot)
+    conn = _clearance(ConnectorSet.from_robot(robot))
     em = _line(replace(conn, hinge="emergent"), robot, w=3, flexible=True).tip_deflection_m
     lu = _line(replace(conn, hinge="lumped"), robot, w=3, flexible=True).tip_deflection_m
     assert lu < em < 1.3 * lu
@@ -118,7 +125,7 @@ def test_a_layer_turns_on_the_one_below_only_by_lifting_its_key():
     the key's pull-out play over its distance to the nearest wheel or caster contact it can pivot
     on (a contact right under the key, as the CuBot's wheels, only shifts the pivot to a caster)."""
     robot = _cubot()
-    conn = replace(ConnectorSet.from_robot(robot).scaled(stiffness=20), hinge="emergent")
+    conn = replace(_clearance(ConnectorSet.from_robot(robot)).scaled(stiffness=20), hinge="emergent")
     st = Structure("arch", 4, 2)
     r = solve_uncached(Config(st, 7, 3, 3), robot, conn)
     lay = r.layout
@@ -154,3 +161,43 @@ def test_flexible_bodies_soften_the_rows_by_the_series_rule():
     k = 1 / (1 / conn.front_rear.rotational_nm_per_rad + body_bending(robot).compliance_rad_per_nm)
     assert sum(kk * a * a for a, kk in hinge.rows(flex)) == pytest.approx(k, rel=1e-9)
     assert math.isclose(flex.axial_n_per_m / conn.front_rear.axial_n_per_m, k / conn.front_rear.rotational_nm_per_rad)
+
+
+# --- the wedge latch's preload (issue 38) ---------------------------------------------------
+
+
+def test_a_preloaded_coupling_is_in_equilibrium_when_docked_and_its_rows_carry_the_preload():
+    """At the docked position the pre-stretched rows pull with the preload and the two face edges
+    push back with as much, with no net moment: the preload deforms nothing the tip sees."""
+    robot = _cubot()
+    j = ConnectorSet.from_robot(robot).front_rear
+    assert j.preload_n > 0 and j.play_x == (0.0, 0.0)
+
+    class _B:  # the layout the links read: two bodies on the ground, one robot tall
+        z_m = 0.0
+
+    class _Lay:
+        bodies = (_B(), _B())
+        height_m = robot.height_m
+
+    class _C:
+        role, a, b, count, point_m, joint = "front_rear", 0, 1, 1, (0.05, 0.03), j
+
+    links = hinge.links(_C(), _Lay(), 3.6, 1e5)
+    fx = [(lk, hinge.axis_force(lk.x, 0.0)) for lk in links]
+    rows = [f for lk, f in fx if lk.feature.startswith("pin row")]
+    faces = [f for lk, f in fx if lk.feature.startswith("faces")]
+    assert sum(rows) == pytest.approx(j.preload_n, rel=1e-9)
+    assert sum(faces) == pytest.approx(-j.preload_n, rel=1e-9)
+    assert sum(f * lk.point_m[1] for lk, f in fx) == pytest.approx(0.0, abs=1e-9 * j.preload_n)
+
+
+def test_the_wedge_latch_spans_what_the_clearance_latch_cannot_and_the_preload_moves_the_tip():
+    robot = _cubot()
+    conn = replace(ConnectorSet.from_robot(robot), hinge="emergent")
+    wedge = _line(conn, robot, w=3).tip_deflection_m
+    assert _line(_clearance(conn), robot, w=3).tip_deflection_m > 3 * wedge  # the play was the tip
+    fr = conn.front_rear
+    none = replace(conn, front_rear=replace(fr, preload_n=0.0))
+    tight = replace(conn, front_rear=replace(fr, preload_n=20 * fr.preload_n))
+    assert _line(tight, robot, w=3).tip_deflection_m < _line(none, robot, w=3).tip_deflection_m
