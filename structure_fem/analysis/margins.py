@@ -58,10 +58,11 @@ MARGINAL_FRACTION = 0.05
 
 
 def record_clearance_mm(inp: StudyInputs) -> float:
-    """The print clearance the record's play was made with: the front-rear tension play is two
-    clearances in series (pin head + blade, ``cubot_cad.couplings.compliance.front_rear_play_mm``)."""
+    """The print clearance the record's play was made with: the front-rear vertical slip is two
+    radial clearances (own + mating bores) and so is a clearance latch's tension play (pin head +
+    blade, ``cubot_cad.couplings.compliance.front_rear_play_mm``); a wedge latch has no tension play."""
     fr = inp.connectors.front_rear
-    t = fr.play_x[1]
+    t = fr.play_z[1] if fr.play_z[1] > 0 else fr.play_x[1]
     return t * 1e3 / 2 if t > 0 else 0.2
 
 

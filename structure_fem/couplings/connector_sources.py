@@ -50,9 +50,13 @@ SOURCES = ("fe", "properties")
 
 
 def _clearance_of(rec: ConnectorProperties) -> float:
-    """The print clearance (mm) a front-rear record was made with: its tension play is two clearances."""
-    t = rec.play_of("tension")
-    return 0.2 if t is None else round(t.play_m * 1e3 / 2, 9)
+    """The print clearance (mm) a front-rear record was made with: its vertical slip is two radial
+    clearances (own + mating bores), as a clearance latch's tension play is (a wedge latch has none)."""
+    for feature in ("vertical_slip", "tension"):
+        t = rec.play_of(feature)
+        if t is not None and t.play_m > 0:
+            return round(t.play_m * 1e3 / 2, 9)
+    return 0.2
 
 
 def _same(a: float, b: float) -> bool:
@@ -77,12 +81,16 @@ def cad_robot_for_record(robot: RobotProperties):
 
     mod, cls = FE_ROBOTS[robot.name]
     try:
-        cad = getattr(importlib.import_module(mod), cls)(clearance_mm=_clearance_of(rec))
+        kw = {"clearance_mm": _clearance_of(rec)}
+        if robot.name == "cubot":  # which latch: the wedge preloads, the clearance latch does not
+            kw["front_rear_coupling"] = "wedge" if rec.preload_n > 0 else "clearance"
+        cad = getattr(importlib.import_module(mod), cls)(**kw)
     except Exception as exc:  # noqa: BLE001 - a clearance outside what the CAD can build
         return None, f"the CAD cannot rebuild the record's front-rear coupling ({exc})"
     hand = cad.connector_properties(robot.youngs_modulus_pa, {"front_rear": rec.gap_m * 1e3})[0]
     if not all(_same(getattr(hand, f), getattr(rec, f)) for f in
-               ("rotational_stiffness_nm_per_rad", "axial_stiffness_n_per_m", "backlash_rad", "height_m")):
+               ("rotational_stiffness_nm_per_rad", "axial_stiffness_n_per_m", "backlash_rad", "height_m",
+                "preload_n")):
         return None, (f"the record's front-rear values are not the parametric {cls}'s hand formula at its "
                       "clearance and modulus (edited or another geometry): no FE result applies")
     return cad, ""

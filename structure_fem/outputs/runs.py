@@ -137,6 +137,17 @@ def make_inputs(opts: RunOptions, props: RobotPropertiesFile | None = None,
     return inp, info
 
 
+def hand_formula_warnings(info: dict, robot: str) -> list[str]:
+    """One ``warning: ...`` line per coupling whose FE result was asked for (``--connectors fe``) but
+    does not exist for the record's geometry, so the table runs on the record's hand formula (issue
+    38, item 2: a CAD export at another clearance used to fall back silently)."""
+    if info.get("robot_connectors_source") != "fe":
+        return []
+    return [f"warning: {robot} {kind}: no FE result applies, the table uses the record's hand formula ({note[len('record (hand formula): '):]})"
+            for kind, note in sorted(info.get("connector_sources", {}).items())
+            if note.startswith("record (hand formula)")]
+
+
 def _alt_thresholds(inp: StudyInputs, info: dict, opts: RunOptions) -> list[tuple[str, NonConvergence]]:
     """Thresholds with the other connector source, for the calibration report; returns its
     non-converged solves with their context."""
@@ -260,6 +271,9 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
     res["piers"] = piers.to_dict() if piers is not None else {"rule": None, "why": piers_why}
     pier_failures = [("pier rule", f) for f in piers.failures] if piers is not None else []
     res.update(not_converged([("", f) for f in d.failures] + alt_failures + pier_failures))
+    hand = hand_formula_warnings(info, opts.robot)
+    res["warnings"][:0] = hand
+    res["hand_formula_connectors"] = [w.split()[2].rstrip(":") for w in hand]
     if limits is None:
         res["warnings"].append(f"warning: {no_crossing(d)}; limits.json not written"
                                + (f" (the older {out / 'limits.json'} was removed)" if stale else ""))

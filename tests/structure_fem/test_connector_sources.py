@@ -199,3 +199,25 @@ def test_without_the_packaged_file_a_missing_result_is_not_invented(tmp_path):
 def test_the_worker_count_is_validated(tmp_path, workers):
     with pytest.raises(InputError, match="workers"):
         cs.compute_packaged_fe(tmp_path, workers=workers)
+
+
+def test_a_record_without_its_fe_result_is_a_warning_line_and_marked_in_the_json(tmp_path):
+    """Issue 38 item 2: a record whose geometry has no FE result (another print clearance, an edit)
+    used to run on the hand formula silently; now the table says so, once per coupling."""
+    from cubot_cad.properties import RobotPropertiesFile
+    from structure_fem.outputs.runs import hand_formula_warnings
+
+    props = default_properties()
+    rec = props.get("cubot")
+    fr = rec.connector("front_rear")
+    edited = rec.with_connector(replace(fr, axial_stiffness_n_per_m=2 * fr.axial_stiffness_n_per_m))
+    path = tmp_path / "robot_properties.json"
+    RobotPropertiesFile(robots=tuple(edited if r.name == "cubot" else r for r in props.robots)).save(path)
+    _, info = make_inputs(RunOptions(properties=str(path)))
+    lines = hand_formula_warnings(info, "cubot")
+    assert len(lines) == 1 and lines[0].startswith("warning: cubot front_rear: no FE result applies")
+    assert "not the parametric CuBot" in lines[0]
+    _, info = make_inputs(RunOptions())
+    assert hand_formula_warnings(info, "cubot") == []  # the packaged record has its FE
+    _, info = make_inputs(RunOptions(properties=str(path), connectors="properties"))
+    assert hand_formula_warnings(info, "cubot") == []  # asked for the hand formula: no warning
