@@ -96,7 +96,6 @@ class FrontRearSpec:
         check_clearance(self.clearance_mm, "clearance_mm")
         if self.wedge is not None:
             need(isinstance(self.wedge, WedgeLatch), f"wedge must be a WedgeLatch or None, got {self.wedge!r}")
-            self.wedge.validate(self)
         check_lengths(self, ("wall_mm", "plate_mm", "pin_diameter_mm", "groove_diameter_mm", "head_shoulder_mm",
                              "head_mm", "head_wall_mm", "blade_mm", "pocket_depth_mm", "pin_circle_mm", "block_mm",
                              "blade_radius_mm", "pin_flat_max_mm"), ("pin_chamfer_mm", "hole_chamfer_mm"))
@@ -121,7 +120,9 @@ class FrontRearSpec:
         # (perpendicular distance from a point at radius rho, angle a off a vertex: R/2 - rho cos(60 - a)).
         inr = self.blade_radius_mm / 2
         th = math.radians(self.blade_turn_deg)
-        wall_slot = inr - self.pin_circle_mm * math.cos(math.radians(60) - th) - self.slot_half_width_mm(0.0)
+        # (the slot at a fraction f of the turn lies f*th off its vertex and is slot_half_width_mm(f) wide)
+        wall_slot = min(inr - self.pin_circle_mm * math.cos(math.radians(60) - th * k / 16) - self.slot_half_width_mm(k / 16)
+                        for k in range(17))
         wall_entry = inr - self.pin_circle_mm * math.cos(math.radians(60)) - self.pin_diameter_mm / 2 - c
         need(at_least(min(wall_slot, wall_entry), MIN_WALL_MM),
              f"blade_radius_mm {self.blade_radius_mm:g} is too small for pin_circle_mm {self.pin_circle_mm:g} "
@@ -169,6 +170,8 @@ class FrontRearSpec:
         need(at_most(self.pin_chamfer_mm, tip_len - 0.5),
              f"pin_chamfer_mm {self.pin_chamfer_mm:g} is longer than the pin's {tip_len:.2f} mm tip beyond its groove "
              "allows (keep 0.5 mm of full diameter)")
+        if self.wedge is not None:  # after the plain checks: a bad pin or groove is named as such first
+            self.wedge.validate(self)
 
     # -- derived ------------------------------------------------------------
     @property
@@ -235,8 +238,7 @@ class FrontRearSpec:
         end (1): constant for the clearance latch, tapering for the wedge latch."""
         if self.wedge is None:
             return self.slot_width_mm / 2
-        h0, h1 = self.wedge.entry_half_width_mm(self), self.wedge.lock_half_width_mm(self)
-        return h0 + (h1 - h0) * f
+        return self.wedge.half_width_mm(self, f)
 
     @property
     def pin_draw_mm(self) -> float:
@@ -253,8 +255,7 @@ class FrontRearSpec:
             return self.blade_turn_deg
         w = self.wedge
         h_c = w.lock_half_width_mm(self) + (w.take_up_mm(self) - self.pin_draw_mm) * w.tan_cone
-        h0, h1 = w.entry_half_width_mm(self), w.lock_half_width_mm(self)
-        return self.blade_turn_deg * min(1.0, max(0.0, (h0 - h_c) / (h0 - h1)))
+        return self.blade_turn_deg * w.turn_fraction(self, h_c)
 
     @property
     def blade_end_mm(self) -> float:
@@ -642,7 +643,7 @@ class TriangularBlade(Part):
             a0, a1 = math.radians(a - th), math.radians(a)
             if s.wedge is not None:  # the tapered slot: open end at a1 (the entry), locking end at a0
                 n = 24
-                fs = [k / n for k in range(n + 1)]
+                fs = sorted(set([k / n for k in range(n + 1)] + list(s.wedge.profile_breaks(s))))
                 ang = [a1 + (a0 - a1) * f for f in fs]
                 hw = [s.slot_half_width_mm(f) for f in fs]
                 outer = [((r + h) * math.cos(g), (r + h) * math.sin(g)) for h, g in zip(hw, ang, strict=True)]

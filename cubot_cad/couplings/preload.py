@@ -13,7 +13,10 @@ no play. The wedge latch does what that bolt does with the parts the robot alrea
   turn: as the latch servo turns the blade, each slot's two edges close on the cone and draw
   the pin deeper into the latch robot until its head bears on the front of its counterbore
   (the head clearance taken up) and the pins are stretched by the preload;
-* the slot's taper angle ``gamma`` is below the friction angle of printed plastic on itself, so
+* a print looser than :attr:`WedgeLatch.lock_below_mm` past the head clearance first meets a steep,
+  unloaded lead-in (the pin is free until its head bears), so the locking taper covers only the draw
+  that can be loaded and stays self-locking across the print clearances 0.1-0.5 mm;
+* the locking taper's angle ``gamma`` is below the friction angle of printed plastic on itself, so
   the wedge is **self-locking**: the pull cannot turn the blade back, the servo may rest.
 
 What is computed here from the geometry and the servo (nothing is a constant):
@@ -66,6 +69,13 @@ class WedgeLatch:
     #: Free turn at the open end before an edge can touch the cone of a pin in its loosest place (mm of
     #: slot half-width): the blade starts turning unloaded.
     entry_gap_mm: float = 0.05
+    #: The self-locking taper starts this far below the nominal head clearance's draw (a tighter print's
+    #: pin still meets the locking part of the slot); any draw before it is an unloaded lead-in.
+    lock_below_mm: float = 0.2
+    #: Taper of that lead-in (deg): it only moves a free pin (no preload yet), so it may be steep, but below
+    #: 90 deg less the highest friction angle (:data:`FRICTION_RANGE`) or the edge jams the cone instead of
+    #: drawing it.
+    lead_in_deg: float = 60.0
     #: Static friction used for the preload and the locking check (:data:`FRICTION_NOMINAL`).
     friction: float = FRICTION_NOMINAL
     #: Lowest friction the wedge must still lock at (the low end of :data:`FRICTION_RANGE`).
@@ -77,6 +87,11 @@ class WedgeLatch:
         need(0.0 <= self.take_up_margin_mm <= 0.6,
              f"wedge take_up_margin_mm {self.take_up_margin_mm:g} must be in 0..0.6 mm")
         need(0.0 <= self.entry_gap_mm <= 0.3, f"wedge entry_gap_mm {self.entry_gap_mm:g} must be in 0..0.3 mm")
+        need(0.0 <= self.lock_below_mm <= 0.5, f"wedge lock_below_mm {self.lock_below_mm:g} must be in 0..0.5 mm")
+        jam = 90.0 - math.degrees(math.atan(FRICTION_RANGE[1]))
+        need(10.0 <= self.lead_in_deg < jam,
+             f"wedge lead_in_deg {self.lead_in_deg:g} must be in 10..{jam:.1f} deg (steeper jams at friction "
+             f"{FRICTION_RANGE[1]:g})")
         need(0.05 <= self.friction_min <= self.friction <= 1.0,
              f"wedge friction {self.friction:g} / friction_min {self.friction_min:g}: need 0.05 <= min <= nominal <= 1")
 
@@ -95,12 +110,59 @@ class WedgeLatch:
         return self.lock_half_width_mm(spec) + self.take_up_mm(spec) * self.tan_cone + self.entry_gap_mm
 
     def slot_arc_mm(self, spec) -> float:
-        """Arc the slot's taper runs over: the blade's turn at the pin circle."""
+        """Arc the slot runs over: the blade's turn at the pin circle."""
         return spec.pin_circle_mm * math.radians(spec.blade_turn_deg)
 
+    # -- the slot's profile: an unloaded lead-in, then the self-locking taper ---------------------
+    def lead_draw_mm(self, spec) -> float:
+        """Draw taken by the lead-in (mm): the head clearance beyond :attr:`lock_below_mm` (0 for tight
+        prints: then the whole slot is the locking taper)."""
+        return max(0.0, spec.clearance_mm - self.lock_below_mm)
+
+    def lock_start_half_width_mm(self, spec) -> float:
+        """Slot half-width where the self-locking taper begins (the lead-in's end)."""
+        draw = self.take_up_mm(spec) - self.lead_draw_mm(spec)
+        return self.lock_half_width_mm(spec) + draw * self.tan_cone + self.entry_gap_mm
+
+    def lead_arc_mm(self, spec) -> float:
+        """Arc of the lead-in at the pin circle (mm)."""
+        dh = self.entry_half_width_mm(spec) - self.lock_start_half_width_mm(spec)
+        return dh / math.tan(math.radians(self.lead_in_deg))
+
+    def lead_fraction(self, spec) -> float:
+        """The lead-in's share of the turn (0..1)."""
+        return self.lead_arc_mm(spec) / self.slot_arc_mm(spec)
+
     def tan_taper(self, spec) -> float:
-        """tan of the slot edge's taper (each edge closes on the pin by this per mm of turn)."""
-        return (self.entry_half_width_mm(spec) - self.lock_half_width_mm(spec)) / self.slot_arc_mm(spec)
+        """tan of the locking taper (each slot edge closes on the pin by this per mm of turn): the angle
+        the self-locking check and the preload use."""
+        run = self.slot_arc_mm(spec) - self.lead_arc_mm(spec)
+        if run <= 0.0:
+            return math.inf
+        return (self.lock_start_half_width_mm(spec) - self.lock_half_width_mm(spec)) / run
+
+    def half_width_mm(self, spec, f: float) -> float:
+        """Slot half-width a fraction ``f`` of the turn from the open end (0) to the locking end (1)."""
+        s = min(1.0, max(0.0, f)) * self.slot_arc_mm(spec)
+        lead = self.lead_arc_mm(spec)
+        if s < lead:
+            return self.entry_half_width_mm(spec) - s * math.tan(math.radians(self.lead_in_deg))
+        return self.lock_start_half_width_mm(spec) - (s - lead) * self.tan_taper(spec)
+
+    def turn_fraction(self, spec, half_width_mm: float) -> float:
+        """The inverse of :meth:`half_width_mm`: where the slot is ``half_width_mm`` wide (clipped to 0..1)."""
+        h0, hk = self.entry_half_width_mm(spec), self.lock_start_half_width_mm(spec)
+        arc, lead = self.slot_arc_mm(spec), self.lead_arc_mm(spec)
+        if half_width_mm >= hk:
+            s = (h0 - half_width_mm) / math.tan(math.radians(self.lead_in_deg))
+        else:
+            s = lead + (hk - half_width_mm) / self.tan_taper(spec)
+        return min(1.0, max(0.0, s / arc))
+
+    def profile_breaks(self, spec) -> tuple[float, ...]:
+        """The turn fractions where the profile kinks (for drawing it exactly)."""
+        f = self.lead_fraction(spec)
+        return (0.0, f, 1.0) if f > 0.0 else (0.0, 1.0)
 
     # -- the groove (set-frame x of the pin; see GroovedPin.groove_mm) --------------------------
     def blade_deep_face_depth_mm(self, spec) -> float:
@@ -122,11 +184,15 @@ class WedgeLatch:
     def validate(self, spec) -> None:
         """The wedge fits the spec: it locks at the lowest friction, its slot edges bear on the cone
         (between the core and the full pin), and the pin keeps a full tip beyond the cone."""
+        need(self.lead_fraction(spec) <= 0.5,
+             f"wedge: the lead-in takes {100 * self.lead_fraction(spec):.0f} % of the blade's turn (> 50 %): "
+             f"a longer blade_turn_deg ({spec.blade_turn_deg:g}), a steeper lead_in_deg ({self.lead_in_deg:g}) or "
+             f"a larger lock_below_mm ({self.lock_below_mm:g})")
         tg = self.tan_taper(spec)
         need(tg < self.friction_min,
              f"wedge slot taper tan {tg:.3f} ({math.degrees(math.atan(tg)):.1f} deg) does not lock at friction "
-             f"{self.friction_min:g}: a longer blade_turn_deg ({spec.blade_turn_deg:g}) or a steeper cone_deg "
-             f"({self.cone_deg:g}) lowers it")
+             f"{self.friction_min:g}: a longer blade_turn_deg ({spec.blade_turn_deg:g}), a shallower cone_deg "
+             f"({self.cone_deg:g}) or a smaller lock_below_mm ({self.lock_below_mm:g}) lowers it")
         need(math.radians(self.cone_deg) > math.atan(self.friction),
              f"wedge cone_deg {self.cone_deg:g} is below the friction angle ({math.degrees(math.atan(self.friction)):.1f} "
              "deg): the slot would squeeze the pin without drawing it in")

@@ -188,11 +188,15 @@ def test_coupling_backlash_and_stiffness_follow_the_geometry(robots):
     from cubot_cad.robots.cubot import CuBot
 
     E = 2.2e9
-    base = {c.kind: c for c in robots["cubot"].connector_properties(E)}
-    loose = {c.kind: c for c in CuBot(clearance_mm=0.3).connector_properties(E)}
+    wedge = {c.kind: c for c in robots["cubot"].connector_properties(E)}
+    # the backlash of the clearance latch follows the clearance and the lever arm; the wedge latch has none
+    base = {c.kind: c for c in CuBot(front_rear_coupling="clearance").connector_properties(E)}
+    loose = {c.kind: c for c in CuBot(clearance_mm=0.3, front_rear_coupling="clearance").connector_properties(E)}
     for kind in ("front_rear", "side_rail", "top_twist"):
         assert loose[kind].backlash_rad == pytest.approx(1.5 * base[kind].backlash_rad, rel=1e-9)
-    high = {c.kind: c for c in CuBot(block_z_mm=38).connector_properties(E)}
+    assert wedge["front_rear"].backlash_rad == 0
+    assert {c.kind: c for c in CuBot(clearance_mm=0.3).connector_properties(E)}["front_rear"].backlash_rad == 0
+    high = {c.kind: c for c in CuBot(block_z_mm=38, front_rear_coupling="clearance").connector_properties(E)}
     assert high["front_rear"].backlash_rad < base["front_rear"].backlash_rad  # longer lever arm
     assert high["front_rear"].rotational_stiffness_nm_per_rad > base["front_rear"].rotational_stiffness_nm_per_rad
     cube = robots["cube-robot"].connector_properties(E)[0]

@@ -129,7 +129,11 @@ def test_every_shipped_connector_names_where_its_values_come_from(props):
         for c in r.connectors:
             assert c.provenance.startswith("hand formula: "), (r.name, c.kind, c.provenance)
             for p in c.play:
-                assert p.cad_feature and p.play_m > 0, (r.name, c.kind, p)
+                assert p.cad_feature, (r.name, c.kind, p)
+                if c.preload_n > 0 and p.name == "tension":  # the wedge latch: taken up by design
+                    assert p.play_m == 0 and "wedge" in p.cad_feature, (r.name, c.kind, p)
+                else:
+                    assert p.play_m > 0, (r.name, c.kind, p)
 
 
 def test_front_rear_tension_play_is_the_two_clearances_in_series():
@@ -137,7 +141,7 @@ def test_front_rear_tension_play_is_the_two_clearances_in_series():
     pitch backlash is that play over the highest pin's lever arm (not one clearance)."""
     from cubot_cad.robots.cubot import CuBot
 
-    cub = CuBot()
+    cub = CuBot(front_rear_coupling="clearance")
     fr = cub.connector_properties(2.2e9)[0]
     t = fr.play_of("tension")
     assert (t.axis, t.sense) == ("x", "tension")
@@ -147,6 +151,17 @@ def test_front_rear_tension_play_is_the_two_clearances_in_series():
     assert "counterbore" in t.cad_feature and "groove" in t.cad_feature
 
 
+def test_the_wedge_latch_takes_up_the_tension_play_and_keeps_the_vertical_slip():
+    """The default CuBot's wedge latch draws the head onto its counterbore: no tension play, no pitch
+    backlash, a preload computed from the servo; the pins still slide 2 clearances vertically."""
+    from cubot_cad.robots.cubot import CuBot
+
+    fr = CuBot().connector_properties(2.2e9)[0]
+    assert fr.play_of("tension").play_m == 0 and fr.backlash_rad == 0
+    assert fr.play_of("vertical_slip").play_m == pytest.approx(2 * 0.2e-3, rel=1e-9)
+    assert fr.preload_n > 0 and "servo" in fr.preload_source
+
+
 @pytest.mark.parametrize("kind,feature", [("front_rear", "tension"), ("front_rear", "vertical_slip"),
                                           ("side_rail", "rail_vertical"), ("top_twist", "key_slip"),
                                           ("top_twist", "pull_out")])
@@ -154,7 +169,8 @@ def test_doubling_the_cad_clearance_doubles_each_feature_play(kind, feature):
     from cubot_cad.robots.cubot import CuBot
 
     def play(c):
-        conns = {x.kind: x for x in CuBot(clearance_mm=c).connector_properties(2.2e9)}
+        # the tension play of the clearance latch (the wedge latch takes it up: 0 at every clearance)
+        conns = {x.kind: x for x in CuBot(clearance_mm=c, front_rear_coupling="clearance").connector_properties(2.2e9)}
         return conns[kind].play_of(feature).play_m
 
     assert play(0.4) == pytest.approx(2 * play(0.2), rel=1e-6)

@@ -105,3 +105,32 @@ def test_turning_the_wedge_blade_draws_the_pins_in_and_bears_on_their_cones():
     assert overlap(at_lock, pins(s.pin_draw_mm)) == pytest.approx(0.0, abs=1e-5)
     at_end = open_blade.rotate(o, X, s.blade_turn_deg)
     assert overlap(at_end, pins(s.pin_draw_mm)) > 1e-4
+
+
+@pytest.mark.parametrize("c", [0.1, 0.2, 0.3, 0.4, 0.5])
+def test_every_print_clearance_of_the_range_builds_a_self_locking_wedge(c):
+    """The locking taper stays below the lowest friction at every clearance; a print looser than
+    lock_below_mm past the head clearance gets an unloaded lead-in for the extra draw, none otherwise;
+    the profile is continuous (the lead-in ends where the locking taper starts) and the locked turn is
+    where the slot meets pins drawn in by the head clearance."""
+    s = FrontRearSpec(clearance_mm=c, wedge=WedgeLatch())
+    w = s.wedge
+    assert w.tan_taper(s) < FRICTION_RANGE[0]
+    assert (w.lead_fraction(s) > 0) == (c > w.lock_below_mm)
+    f = w.lead_fraction(s)
+    assert w.half_width_mm(s, f) == pytest.approx(w.lock_start_half_width_mm(s))
+    assert w.half_width_mm(s, 0.0) == pytest.approx(w.entry_half_width_mm(s))
+    assert w.half_width_mm(s, 1.0) == pytest.approx(w.lock_half_width_mm(s))
+    hs = [w.half_width_mm(s, k / 50) for k in range(51)]
+    assert all(a >= b for a, b in zip(hs, hs[1:], strict=False))  # it only ever closes
+    h_c = w.lock_half_width_mm(s) + w.take_up_margin_mm * w.tan_cone
+    assert w.half_width_mm(s, s.locked_turn_deg / s.blade_turn_deg) == pytest.approx(h_c)
+
+
+def test_without_the_lead_in_a_loose_print_would_not_lock():
+    """The lead-in is what makes 0.5 mm lock: with the locking taper starting at the open end
+    (lock_below_mm covering the whole clearance) the one taper is above the friction angle."""
+    with pytest.raises(InputError, match="does not lock at friction"):
+        FrontRearSpec(clearance_mm=0.5, wedge=WedgeLatch(lock_below_mm=0.5))
+    assert FrontRearSpec(clearance_mm=0.5, wedge=WedgeLatch()).wedge.lead_fraction(
+        FrontRearSpec(clearance_mm=0.5, wedge=WedgeLatch())) > 0

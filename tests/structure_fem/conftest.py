@@ -47,6 +47,25 @@ def robot() -> RobotProperties:
     return make_robot()
 
 
+def clearance_latch(conn, clearance_m: float = 2e-4):
+    """``conn`` with the thesis's clearance latch on the front-rear coupling: 2 x ``clearance_m`` of
+    tension play (head in its counterbore + blade in its groove), the pitch backlash that play over
+    the highest pin, no preload. The packaged CuBot has the wedge latch since issue 38; tests about
+    how the model treats play (dead bands, stalls, piers lifted off) use this one."""
+    from dataclasses import replace
+
+    fr = conn.front_rear
+    play = 2 * clearance_m
+    return replace(conn, front_rear=replace(fr, play_x=(0.0, play), backlash_rad=play / max(fr.levers_m),
+                                            preload_n=0.0))
+
+
+@pytest.fixture(name="clearance_latch", scope="session")
+def clearance_latch_fixture():
+    """The function :func:`clearance_latch`."""
+    return clearance_latch
+
+
 @pytest.fixture(scope="session")
 def cubot() -> RobotProperties:
     return default_properties().get("cubot")

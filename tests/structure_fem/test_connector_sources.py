@@ -108,7 +108,10 @@ def test_the_packaged_limits_list_every_input_with_its_provenance():
         for q in ("nm_per_rad", "axial_n_per_m", "shear_n_per_m", "backlash_rad", "play_x_opening_m",
                   "play_z_opening_m"):
             assert f"{kind}_{q}" in lim.inputs
-    assert lim.inputs["front_rear_play_x_opening_m"] == pytest.approx(4e-4, rel=1e-9)
+    # the wedge latch takes up the tension play; the pins keep their vertical slip (2 clearances)
+    fr = default_properties().get("cubot").connector("front_rear")
+    assert lim.inputs["front_rear_play_x_opening_m"] == pytest.approx(fr.play_of("tension").play_m, abs=1e-12) == 0
+    assert lim.inputs["front_rear_play_z_opening_m"] == pytest.approx(4e-4, rel=1e-9)
 
 
 def test_a_missing_or_bad_measurement_file_is_one_error_line_exit_2(cli, tmp_path):
