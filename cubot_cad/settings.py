@@ -29,10 +29,16 @@ class Setting:
     name: str
     description: str
     robots: tuple[str, ...]
+    #: A variant chosen by name instead of a dimension (e.g. the front-rear coupling): its values.
+    choices: tuple[str, ...] | None = None
 
     @property
     def unit(self) -> str:
-        return self.name.rsplit("_", 1)[-1]
+        return "one of " + ", ".join(self.choices) if self.choices else self.name.rsplit("_", 1)[-1]
+
+
+def _fmt(v) -> str:
+    return v if isinstance(v, str) else f"{v:g}"
 
 
 #: The dimensions ``--set`` exposes (all in mm).
@@ -47,6 +53,8 @@ SETTINGS: dict[str, Setting] = {s.name: s for s in (
     Setting("groove_diameter_mm", "diameter of the grooved pins' neck (the latch blade's slots follow it)",
             ("cubot", "cube-robot")),
     Setting("wheel_base_mm", "distance between the drive wheels' mid-planes", ("cubot", "octbot")),
+    Setting("front_rear_coupling", "the front-rear latch: wedge (no free play, the default) or clearance "
+            "(the thesis's drawing, 2 clearances of tension play)", ("cubot",), ("wedge", "clearance")),
 )}
 
 
@@ -54,15 +62,21 @@ def _names() -> str:
     return ", ".join(sorted(SETTINGS))
 
 
-def parse_setting(text: str) -> tuple[str, float]:
-    """``"NAME=VALUE"`` -> (name, value in mm); :class:`InputError` (naming the text) for an unknown
-    name, a missing ``=`` or a value that is not a finite number."""
+def parse_setting(text: str) -> tuple[str, float | str]:
+    """``"NAME=VALUE"`` -> (name, value in mm, or the variant's name for a setting with choices);
+    :class:`InputError` (naming the text) for an unknown name, a missing ``=``, a value that is not
+    a finite number or not one of the choices."""
     raw = str(text)
     if "=" not in raw:
         raise InputError(f"--set {raw!r} is not NAME=VALUE (NAME one of {_names()})")
     name, value = (s.strip() for s in raw.split("=", 1))
     if name not in SETTINGS:
         raise InputError(f"--set {name}={value}: {name!r} is not a dimension the CLI sets (one of {_names()})")
+    choices = SETTINGS[name].choices
+    if choices:
+        if value not in choices:
+            raise InputError(f"--set {name}={value}: {value!r} is not one of {', '.join(choices)}")
+        return name, value
     try:
         v = float(value)
     except ValueError:
@@ -81,7 +95,7 @@ def parse_settings(items) -> tuple[tuple[str, float], ...]:
     for it in items or ():
         name, v = parse_setting(it) if isinstance(it, str) else parse_setting(f"{it[0]}={it[1]}")
         if name in out and out[name] != v:
-            raise InputError(f"--set {name} is given twice ({out[name]:g} and {v:g})")
+            raise InputError(f"--set {name} is given twice ({_fmt(out[name])} and {_fmt(v)})")
         out[name] = v
     return tuple(sorted(out.items()))
 
@@ -111,7 +125,7 @@ def check_applicable(settings: tuple[tuple[str, float], ...], robots) -> None:
     for name, v in settings:
         s = SETTINGS[name]
         if not set(s.robots) & set(robots):
-            raise InputError(f"--set {name}={v:g}: none of {', '.join(robots)} has {name} "
+            raise InputError(f"--set {name}={_fmt(v)}: none of {', '.join(robots)} has {name} "
                              f"(it sets the {', '.join(s.robots)})")
 
 
@@ -121,4 +135,4 @@ def for_robot(settings: tuple[tuple[str, float], ...], robot: str) -> dict[str, 
 
 
 def settings_text(settings) -> str:
-    return ", ".join(f"{k}={v:g}" for k, v in settings)
+    return ", ".join(f"{k}={_fmt(v)}" for k, v in settings)

@@ -173,3 +173,17 @@ def test_check_builds_and_checks_the_tuned_parts(cli):
 def test_check_refuses_a_directory_and_a_build(cli, tmp_path):
     res = cli("cad", "check", str(tmp_path), "--set", "wall_mm=3")
     assert res.code == 2 and len(res.error_lines) == 1 and "not both" in res.err
+
+
+def test_the_front_rear_coupling_is_a_variant_chosen_by_name():
+    """The clearance latch stays selectable (issue 38): ``--set front_rear_coupling=clearance``; a name
+    that is not a variant is one error naming it."""
+    from cubot_cad.errors import InputError
+    from cubot_cad.settings import parse_settings
+
+    assert parse_settings(["front_rear_coupling=clearance"]) == (("front_rear_coupling", "clearance"),)
+    r = _fresh_c(0.2, front_rear_coupling="clearance")
+    assert r.front_rear_coupling == "clearance" and r.fr_spec.wedge is None
+    assert _fresh_c(0.2).fr_spec.wedge is not None
+    with pytest.raises(InputError, match="'loose' is not one of wedge, clearance"):
+        parse_settings(["front_rear_coupling=loose"])

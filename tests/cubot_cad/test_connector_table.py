@@ -19,7 +19,9 @@ def _parts(clearance):
 
     out = {}
     for name in ROBOT_NAMES:
-        r = make_robot(name, clearance)
+        # the record predates the wedge latch (issue 38): the CuBot it guards is the clearance latch
+        settings = (("front_rear_coupling", "clearance"),) if name == "cubot" else ()
+        r = make_robot(name, clearance, settings)
         for part, _ in list(r.printable_parts()) + list(pier_parts(r)):
             out[f"{name}/{part.name}"] = part
     return out

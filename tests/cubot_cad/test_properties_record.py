@@ -130,7 +130,7 @@ def test_every_shipped_connector_names_where_its_values_come_from(props):
             assert c.provenance.startswith("hand formula: "), (r.name, c.kind, c.provenance)
             for p in c.play:
                 assert p.cad_feature, (r.name, c.kind, p)
-                if c.preload_n > 0 and p.name == "tension":  # the wedge latch: taken up by design
+                if c.preload_n > 0 and p.feature == "tension":  # the wedge latch: taken up by design
                     assert p.play_m == 0 and "wedge" in p.cad_feature, (r.name, c.kind, p)
                 else:
                     assert p.play_m > 0, (r.name, c.kind, p)
@@ -159,7 +159,7 @@ def test_the_wedge_latch_takes_up_the_tension_play_and_keeps_the_vertical_slip()
     fr = CuBot().connector_properties(2.2e9)[0]
     assert fr.play_of("tension").play_m == 0 and fr.backlash_rad == 0
     assert fr.play_of("vertical_slip").play_m == pytest.approx(2 * 0.2e-3, rel=1e-9)
-    assert fr.preload_n > 0 and "servo" in fr.preload_source
+    assert fr.preload_n > 0 and "stall torque" in fr.preload_source
 
 
 @pytest.mark.parametrize("kind,feature", [("front_rear", "tension"), ("front_rear", "vertical_slip"),

@@ -237,7 +237,7 @@ def test_the_hinge_model_is_a_choice_and_the_lumped_one_is_the_earlier_model(cli
     monkeypatch.setattr(runs, "tapered_arches", lambda d, thesis=None, progress=None: [])
 
     def run(name, *extra):
-        res = cli("fem", "table", "--static", "--json", "--max-width", "8", "--out", str(tmp_path / name), *extra)
+        res = cli("fem", "table", "--static", "--json", "--max-width", "6", "--out", str(tmp_path / name), *extra)
         assert res.code == 0, res.err
         return res.json()
 

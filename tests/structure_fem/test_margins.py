@@ -51,15 +51,17 @@ def test_the_decomposition_sums_to_the_tip_within_one_percent(line_report):
 
 def test_the_wedge_latch_takes_the_play_out_of_the_line(line_report):
     """The clearance latch's 0.4 mm tension gap over a 37 mm lever made ~95 % of the line's tip play
-    (issue 38); the wedge latch draws it shut, so what is left of play (the pins' vertical slip) is a
-    small share of the tip and something else sets the threshold. Where the launch allowance took a
-    width off the static threshold, that is what sets it, and the report says so."""
+    (issue 38); the wedge latch draws it shut: the joints' opening rotation (``play_mm``) is a small
+    share of the tip. What play is left is the pins' vertical slip in their bores (2 x 0.2 mm per
+    joint, kept because the model does not count on the preload's friction): where play still sets
+    the line (44 % of the tip at 5 widths on the packaged record), it is that slip. Where the launch
+    allowance took a width off the static threshold, that is what sets it, and the report says so."""
     d = line_report["decomposition"]
     assert 0 <= d["play_mm"] < 0.1 * d["tip_mm"]
     if line_report["threshold"] < line_report["static_threshold"]:
         assert line_report["set_by"] == "dynamic"
-    else:
-        assert line_report["set_by"] != "play"
+    elif line_report["set_by"] == "play":
+        assert d["play_total_mm"] - d["play_mm"] > 0.9 * d["play_total_mm"]  # the slip, not the opening
 
 
 def test_the_range_brackets_the_threshold_and_goes_the_physical_way(line_report):

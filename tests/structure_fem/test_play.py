@@ -64,13 +64,22 @@ def test_a_tension_gap_lets_an_arch_sag_by_about_the_gap_over_its_height(make_ro
     assert tension - base > 0.8 * expected
 
 
-def _cubot_at(clearance_mm):
+def _cubot_at(clearance_mm, coupling="clearance"):
+    """The packaged CuBot with the couplings a print at ``clearance_mm`` gives (``coupling``: the
+    front-rear latch, the thesis's clearance latch by default: its play follows the clearance)."""
     from cubot_cad.robots.cubot import CuBot
 
     rec = default_properties().get("cubot")
     gaps = {c.kind: c.gap_m * 1e3 for c in rec.connectors}
-    return replace(rec, connectors=tuple(CuBot(clearance_mm=clearance_mm).connector_properties(
-        rec.youngs_modulus_pa, gaps)))
+    return replace(rec, connectors=tuple(CuBot(clearance_mm=clearance_mm, front_rear_coupling=coupling)
+                                         .connector_properties(rec.youngs_modulus_pa, gaps)))
+
+
+def test_the_wedge_latch_has_no_tension_play_at_either_clearance_and_keeps_the_slip():
+    for c in (0.2, 0.4):
+        fr = _cubot_at(c, "wedge").connector("front_rear")
+        assert fr.play_of("tension").play_m == 0 and fr.preload_n > 0
+        assert fr.play_of("vertical_slip").play_m == pytest.approx(2 * c * 1e-3)
 
 
 def test_doubling_the_cad_clearance_does_not_raise_the_line_threshold():

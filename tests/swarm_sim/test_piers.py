@@ -141,10 +141,12 @@ def test_a_void_one_width_past_the_line_takes_a_pier_against_the_far_wall():
 
 
 def test_a_carrier_whose_drive_fails_says_so_and_another_brings_the_robot():
-    base = run_scenario("pier", 20, 6, 1)
+    # 22 robots: four lose their drive, and the derived rule's wider first span (the wedge latch's
+    # line) needs more of the rest than 20 leave
+    base = run_scenario("pier", 22, 6, 1)
     fetch = next(e for e in base.events if e[1] == "pier_fetch")
     c, t = fetch[2], fetch[0] + 1.0
-    res = run_scenario("pier", 20, 6, 1, faults=f"0@0:drive,1@0:drive,2@0:drive,{c}@{t}:drive", check_invariants=True)
+    res = run_scenario("pier", 22, 6, 1, faults=f"0@0:drive,1@0:drive,2@0:drive,{c}@{t}:drive", check_invariants=True)
     abort = [e for e in res.events if e[1] == "pier_aborted"]
     assert abort and abort[0][2] == c
     assert any(e[1] == "fault_detected" and e[2] == c and e[3]["how"] == "reports_cannot_drive" for e in res.events)
