@@ -1,8 +1,8 @@
 """The dimensions a maker tunes from the command line (``voidcross cad ... --set NAME=VALUE``).
 
 Each :class:`Setting` names one dimension (with its unit in the name, ``*_mm``) and the robots
-whose dataclass field of that name it sets. The value is not checked here beyond being a
-finite number: it goes into the robot's frozen dataclass, whose own validation (and that of
+whose dataclass field of that name it sets; a setting with ``choices`` (the front-rear latch)
+takes one of its names instead. A dimension is not checked here beyond being a finite number: it goes into the robot's frozen dataclass, whose own validation (and that of
 the parts and connector specs it derives) accepts or refuses it, and a refusal is reported
 as one :class:`~cubot_cad.errors.InputError` naming ``--set NAME=VALUE``
 (:func:`cubot_cad.outputs.export.make_robot`). ``clearance_mm`` is the print clearance per side, the
@@ -41,7 +41,7 @@ def _fmt(v) -> str:
     return v if isinstance(v, str) else f"{v:g}"
 
 
-#: The dimensions ``--set`` exposes (all in mm).
+#: What ``--set`` exposes: dimensions (in mm) and variants chosen by name (``choices``).
 SETTINGS: dict[str, Setting] = {s.name: s for s in (
     Setting("clearance_mm", "print clearance per side on every mating pair (= --clearance-mm)",
             ("cubot", "octbot", "cube-robot", "platform")),

@@ -96,6 +96,10 @@ class WedgeLatch:
              f"wedge friction {self.friction:g} / friction_min {self.friction_min:g}: need 0.05 <= min <= nominal <= 1")
 
     @property
+    def tan_lead(self) -> float:
+        return math.tan(math.radians(self.lead_in_deg))
+
+    @property
     def tan_cone(self) -> float:
         return math.tan(math.radians(self.cone_deg))
 
@@ -127,7 +131,7 @@ class WedgeLatch:
     def lead_arc_mm(self, spec) -> float:
         """Arc of the lead-in at the pin circle (mm)."""
         dh = self.entry_half_width_mm(spec) - self.lock_start_half_width_mm(spec)
-        return dh / math.tan(math.radians(self.lead_in_deg))
+        return dh / self.tan_lead
 
     def lead_fraction(self, spec) -> float:
         """The lead-in's share of the turn (0..1)."""
@@ -146,7 +150,7 @@ class WedgeLatch:
         s = min(1.0, max(0.0, f)) * self.slot_arc_mm(spec)
         lead = self.lead_arc_mm(spec)
         if s < lead:
-            return self.entry_half_width_mm(spec) - s * math.tan(math.radians(self.lead_in_deg))
+            return self.entry_half_width_mm(spec) - s * self.tan_lead
         return self.lock_start_half_width_mm(spec) - (s - lead) * self.tan_taper(spec)
 
     def turn_fraction(self, spec, half_width_mm: float) -> float:
@@ -154,7 +158,7 @@ class WedgeLatch:
         h0, hk = self.entry_half_width_mm(spec), self.lock_start_half_width_mm(spec)
         arc, lead = self.slot_arc_mm(spec), self.lead_arc_mm(spec)
         if half_width_mm >= hk:
-            s = (h0 - half_width_mm) / math.tan(math.radians(self.lead_in_deg))
+            s = (h0 - half_width_mm) / self.tan_lead
         else:
             s = lead + (hk - half_width_mm) / self.tan_taper(spec)
         return min(1.0, max(0.0, s / arc))
