@@ -14,6 +14,16 @@ from dataclasses import dataclass
 
 from .errors import InputError
 
+#: what a tunable is: ``robot`` (the body and its sensors: a faster robot is bought, not tuned;
+#: ``voidcross optimise`` refuses these), ``search`` (how free robots explore), ``timing`` (waits
+#: of the structure's behaviour), ``watchdog`` (when the swarm gives up on a stalled step)
+KINDS = ("robot", "search", "timing", "watchdog")
+_KIND = {"speed_cm_s": "robot", "void_detect_cm": "robot", "target_found_cm": "robot",
+         "climb_s_per_layer": "robot", "avoid_cm": "search", "levy_mu": "search", "levy_min_cm": "search",
+         "levy_max_cm": "search", "random_turn_prob": "search", "random_turn_rad": "search",
+         "wander_after_retreat_s": "timing", "release_clear_s": "timing", "recruit_stall_s": "watchdog",
+         "stall_s": "watchdog", "heartbeat_s": "watchdog", "heartbeat_misses": "watchdog"}
+
 
 @dataclass(frozen=True)
 class Tunable:
@@ -23,6 +33,16 @@ class Tunable:
     unit: str
     changes: str
     source: str
+
+    @property
+    def kind(self) -> str:
+        """One of :data:`KINDS` (every tunable has one: a test checks)."""
+        return _KIND[self.name]
+
+    @property
+    def integer(self) -> bool:
+        """Whole numbers only (``heartbeat_misses``): both bounds are ints."""
+        return isinstance(self.lo, int) and isinstance(self.hi, int)
 
 
 TUNABLES: tuple[Tunable, ...] = (
@@ -72,5 +92,5 @@ def check(name: str, value, source: str = "--set") -> None:
 def table(params) -> list[dict]:
     """The table as rows with the values of ``params`` (a :class:`~swarm_sim.params.Params`; its
     defaults for ``Params()``), for ``voidcross sim params --json`` and the docs."""
-    return [{"name": t.name, "default": getattr(params, t.name), "lo": t.lo, "hi": t.hi, "unit": t.unit,
-             "changes": t.changes, "source": t.source} for t in TUNABLES]
+    return [{"name": t.name, "kind": t.kind, "default": getattr(params, t.name), "lo": t.lo, "hi": t.hi,
+             "unit": t.unit, "changes": t.changes, "source": t.source} for t in TUNABLES]

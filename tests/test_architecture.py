@@ -31,7 +31,7 @@ LAYERS = {
     "swarm_sim": [
         {"errors", "state", "params", "tunables", "faults"}, {"engine"}, {"behaviour"},
         {"resolve", "step", "compiled", "invariants", "render", "runner", "decision_docs"},
-        {"experiments", "sweeps"},
+        {"experiments", "sweeps"}, {"optimise"},
     ],
 }
 

@@ -24,7 +24,7 @@ import traceback
 
 from cubot_cad.errors import InputError
 
-COMMANDS = ("cad", "fem", "sim", "sweep", "reproduce", "report", "pipeline", "doctor")
+COMMANDS = ("cad", "fem", "sim", "sweep", "reproduce", "optimise", "report", "pipeline", "doctor")
 
 EPILOG = """examples:
   voidcross doctor                      what is installed and what it enables
@@ -33,6 +33,7 @@ EPILOG = """examples:
   voidcross fem table --json            derived structure thresholds next to the thesis's
   voidcross sim run --preset case-d --robots 9 --void-width 2 --seed 1 --json
   voidcross sweep --preset case-d --robots 3-12 --void-width 1-3 --runs 5 --db results/d.sqlite
+  voidcross optimise --cases a,b,c,d --trials 30 --db results/opt.sqlite --report
   voidcross report --db results/d.sqlite --out report/
 """
 

@@ -19,6 +19,14 @@ import argparse
 import sys
 import time
 
+from swarm_sim.experiments.thesis_grid import (  # noqa: F401 (the grid and boundary have one home)
+    EXPERIMENTS,
+    TAPERING,
+    observed_boundary,
+    rule_swarm,
+    thesis_boundary,
+)
+
 from ..output import MAX_RUNS, MAX_WORKERS, check_int, check_seed, emit, out_dir
 
 EPILOG = """examples:
@@ -31,47 +39,6 @@ Re-running the same command resumes: runs already stored are not repeated. The r
 (OUT/report/index.html) has Tables 4.4-4.9 with ours beside the thesis's; --json prints,
 per case, the observed crossing boundary against the thesis's (3w + 2 for A, 3w for B-D).
 """
-
-#: (chapter, case, preset, swarm sizes, void widths, runs per cell): Ch. 4.7 and Ch. 5.6
-EXPERIMENTS = (
-    (4, "A", "case-a", (5, 7, 8, 10), (1, 2, 3, 4, 5), 5),
-    (4, "B", "case-b", (3, 6, 9, 12, 15, 18), (1, 2, 3, 4, 5), 5),
-    (4, "C", "case-c", tuple(range(3, 19)), (1, 2, 3, 4, 5), 30),
-    (4, "D", "case-d", (*range(3, 19), 20, 25, 30, 40, 50), (1, 2, 3, 4, 5), 30),
-    (5, "large", "large-void", (70,), (6, 7, 8, 9, 10), 10),
-    (5, "taper-15", "large-void-15", "rule", (11, 15), 1),
-    (5, "taper-30", "large-void-30", "rule", (20, 25, 30), 1),
-)
-#: the tapering rows (swarm size ``"rule"``: per width, the smallest swarm the counting rule
-#: of the chosen limits admits, ``resolve_params(...).min_robots_rule``, computed, not listed)
-TAPERING = tuple(e[1] for e in EXPERIMENTS if e[3] == "rule")
-
-
-def rule_swarm(preset: str, width: int, limits: str) -> int:
-    """The swarm the counting rule needs to cross ``width`` with ``preset`` under ``limits``."""
-    from swarm_sim.runner import resolve_params
-
-    return int(resolve_params(preset, 100, width, limits=limits).min_robots_rule)
-
-
-def thesis_boundary(case: str, w: int, preset: str | None = None) -> int | None:
-    """The thesis's smallest crossing swarm: 3w + 2 for case A, 3w for B-D (Ch. 4.6.3); for the
-    tapering rows the thesis's counting rule (Ch. 5.5.2) at that width (``preset`` needed)."""
-    if case in TAPERING and preset is not None:
-        return rule_swarm(preset, w, "thesis")
-    return {"A": 3 * w + 2, "B": 3 * w, "C": 3 * w, "D": 3 * w}.get(case)
-
-
-def observed_boundary(cells: dict[tuple[int, int], list[bool]], w: int) -> dict:
-    """From {(robots, width): [crossed?]}: the smallest swarm of the grid at which every run
-    crossed, and whether every run of every smaller swarm retreated."""
-    sizes = sorted(n for n, ww in cells if ww == w)
-    all_cross = [n for n in sizes if cells[(n, w)] and all(cells[(n, w)])]
-    n_obs = all_cross[0] if all_cross else None
-    below_ok = n_obs is not None and all(not any(cells[(n, w)]) for n in sizes if n < n_obs)
-    return {"observed": n_obs, "below_all_retreat": below_ok,
-            "runs": sum(len(cells[(n, w)]) for n in sizes)}
-
 
 def _selected(chapter: str, cases: str | None) -> list[tuple]:
     from swarm_sim.errors import InputError

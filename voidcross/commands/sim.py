@@ -250,9 +250,10 @@ def params_table(args: argparse.Namespace) -> int:
 
     rows = table(Params())
     w = max(len(r["name"]) for r in rows)
-    human = "\n".join(f"{r['name']:<{w}}  {r['default']!s:>7} {r['unit']:<6} range {r['lo']:g}..{r['hi']:g}   "
+    human = "\n".join(f"{r['name']:<{w}}  {r['kind']:<8} {r['default']!s:>7} {r['unit']:<6} range {r['lo']:g}..{r['hi']:g}   "
                       f"{r['changes']} [{r['source']}]" for r in rows)
-    emit(args, {"tunables": rows}, human + "\nset with --set NAME=VALUE or in a preset's TOML")
+    emit(args, {"tunables": rows}, human + "\nset with --set NAME=VALUE or in a preset's TOML; `voidcross optimise "
+         "--params ...` tunes the search/timing/watchdog ones (robot: the body and sensors, not tuned)")
     return 0
 
 
