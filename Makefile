@@ -53,7 +53,7 @@ demo: $(STAMP) clients
 	$(BIN)/voidcross pipeline
 
 test: $(STAMP) clients
-	$(BIN)/python -m pytest -q -n auto --dist loadfile --durations=25
+	$(BIN)/python -m pytest -q -n auto --dist loadgroup --durations=25
 
 bench: $(STAMP)
 	$(BIN)/python -m pytest -q -m bench --benchmark-enable tests

@@ -33,6 +33,20 @@ def pytest_configure(config):
     os.environ["VOIDCROSS_TEST_CACHE"] = d
 
 
+#: Files whose tests share no module-scoped fixture and together cost minutes: xdist spreads them
+#: test by test over the workers. Every other file stays whole on one worker (``xdist_group`` by
+#: file, ``make test`` runs ``--dist loadgroup``), so its module fixtures are built once.
+SPREAD = ("tests/structure_fem/test_never_crash.py", "tests/structure_fem/test_coupling_fe_rail_key.py")
+
+
+def pytest_collection_modifyitems(config, items):
+    root = Path(str(config.rootpath))
+    for item in items:
+        rel = Path(str(item.path)).relative_to(root).as_posix()
+        if rel not in SPREAD:
+            item.add_marker(pytest.mark.xdist_group(rel))
+
+
 def pytest_unconfigure(config):
     d = getattr(config, "_voidcross_cache", None)
     if d:

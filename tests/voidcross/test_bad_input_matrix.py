@@ -237,6 +237,22 @@ for kind, value in {"negative": "case-d,-3,3,1", "zero": "case-d,0,3,1", "huge":
                     "limits-unknown": "case-d,9,3,1,nosuchlimits"}.items():
     cell(f"report-watch-{kind}", ("report", "--db", "{missing}.sqlite", "--out", "rep", "--watch", value), ("--watch",))
 
+# ----------------------------------------------------------------------------------- optimise
+OPT = "optimise --cases d --trials 1 --train-seeds 1 --heldout-runs 0 --db o.sqlite"
+cell("optimise-params-robot", "optimise --params speed_cm_s --db o.sqlite", ("--params", "speed_cm_s"))
+cell("optimise-params-unknown", "optimise --params levy_mu,nosuchtunable --db o.sqlite", ("--params", "nosuchtunable"))
+cell("optimise-cases-unknown", "optimise --cases z --db o.sqlite", ("--cases", "z"))
+cell("optimise-train-widths-outside", "optimise --cases d --train-widths 9 --db o.sqlite", ("--train-widths", "9"))
+cell("optimise-db-corrupt", "optimise --cases d --trials 1 --heldout-runs 0 --db {corrupt_db}", ("--db",))
+cell("optimise-limits-unknown", f"{OPT} --limits nosuchlimits", ("nosuchlimits",))
+cell("optimise-report-file", f"{OPT} --report {{f}}", ("--report",))
+numeric("optimise", "optimise --cases d --train-seeds 1 --heldout-runs 0 --db o.sqlite", "--trials", INT_KINDS)
+numeric("optimise", OPT, "--train-seeds", INT_KINDS)
+numeric("optimise", OPT, "--seed", SEED_KINDS)
+numeric("optimise", OPT, "--sigma", FLOAT_KINDS)
+numeric("optimise", OPT, "--workers", {"negative": NEG, "zero": ZERO, "huge": "1000000"})
+numeric("optimise", OPT, "--heldout-runs", {"negative": NEG, "huge": HUGE_INT})
+
 # ----------------------------------------------------------------------------------- reproduce
 REPRO = "reproduce --chapter 4 --cases A --runs 1 --no-report"
 cell("reproduce-out-readonly", f"{REPRO} --out {{ro}}", ("--out",))
