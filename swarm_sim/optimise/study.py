@@ -44,7 +44,7 @@ class StudyConfig:
     cases: tuple[str, ...] = ("A", "B", "C", "D")
     space: SearchSpace = field(default_factory=SearchSpace)
     trials: int = 30
-    train_seeds: int = 3
+    train_seeds: int = 6
     train_widths: tuple[int, ...] = (2, 4)
     limits: str = "thesis"
     seed: int = 0

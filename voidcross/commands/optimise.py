@@ -122,8 +122,9 @@ def register(sub, common) -> None:
     p.add_argument("--params", default=",".join(DEFAULT_PARAMS),
                    help="tunables to tune, comma list (default: %(default)s; `voidcross sim params` lists them)")
     p.add_argument("--trials", type=int, default=30, help="trials (default 30; trial 0, the thesis's rules, extra)")
-    p.add_argument("--train-seeds", dest="train_seeds", type=int, default=3,
-                   help="runs per training cell, the same seeds for every trial (default 3)")
+    p.add_argument("--train-seeds", dest="train_seeds", type=int, default=6,
+                   help="runs per training cell, the same seeds for every trial (default 6: 3 overfit, "
+                        "docs/optimise.md)")
     p.add_argument("--train-widths", dest="train_widths", default="2,4",
                    help="void widths of the training cells (default 2,4)")
     p.add_argument("--limits", default="thesis", help="thesis (default, the thesis's boundaries), derived or a path")
