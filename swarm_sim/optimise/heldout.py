@@ -173,7 +173,7 @@ def robustness(tuned: dict, cfg: StudyConfig, db, runs: int = 10, executor: str 
     no_obstacles = [c for c in cfg.cases if not obstacles_in(CHAPTER4[c][0])]
     scenarios = {f"faults {faults}": ({"faults": faults}, list(cfg.cases)),
                  "obstacles (Algorithm 3's five)": ({"obstacles": obstacles_of()}, no_obstacles)}
-    cells = [c for c in cfg.cells()]
+    cells = cfg.cells()
     out: dict = {}
     new = 0
     with make_executor(executor, workers=workers, address=address) as ex:

@@ -70,7 +70,12 @@ class StudyConfig:
             raise InputError("--train-widths is empty")
 
     def cells(self) -> list[Cell]:
-        return training_cells(self.cases, self.limits, self.train_widths)
+        """The training cells (computed once: every trial's sweep asks for them)."""
+        got = self.__dict__.get("_cells")
+        if got is None:
+            got = training_cells(self.cases, self.limits, self.train_widths)
+            object.__setattr__(self, "_cells", got)
+        return list(got)
 
     def describe(self) -> dict:
         d = asdict(self)
