@@ -21,6 +21,15 @@ The result is the compliance the lumped beam needs, ``integral dx / I(x)`` over 
 the same end rotation under a uniform moment. A station with no material (a slot through the
 whole body) has no bending stiffness there, and is refused (the body would be two parts).
 
+**Coupling zones.** A robot whose coupling is cut into its body (the test platform's lap joint:
+the front tab and the rear recess are the plate's own material, half its thickness) names those
+x-intervals in ``coupling_zones_mm``: they belong to the coupling's model, whose FE
+(:mod:`structure_fem.couplings.platform_bolt_fe`) already counts them as the joint's compliance
+*beyond a continuous plate*, so the body's section is taken over the rest only (stations whose
+mid-point lies in a zone are skipped, ``I_eff`` over the kept length). Cutting them into the body
+too counted the joint twice: the platform's record said 205 mm^4 (a 2.9 mm plate) where the FE's
+plate, and the part, are 5 mm (1042 mm^4). One geometry for both.
+
 Shear deformation of the walls is not in it: for the CuBot (webs 2 x 2.4 x 72 mm, G = E / 2.7)
 a robot carrying 20 N of shear deflects 7 um in shear, well below a micrometre-scale
 contribution to millimetre tips (stated, not modelled).
@@ -53,6 +62,10 @@ class BodySection:
     effective_second_moment_mm4: float
     #: The mean cut area (mm^2), for reference.
     mean_area_mm2: float
+    #: x-intervals (robot frame, mm) left to the couplings' own models (module docstring).
+    coupling_zones_mm: tuple[tuple[float, float], ...] = ()
+    #: Stations cut (``stations`` less those in a coupling zone).
+    kept_stations: int = 0
 
     @property
     def effective_second_moment_m4(self) -> float:
@@ -60,8 +73,12 @@ class BodySection:
 
     @property
     def source(self) -> str:
+        zones = ""
+        if self.coupling_zones_mm:
+            zones = (f" ({self.kept_stations} kept: the coupling's own zones x = " + ", ".join(f"{a:.4g}..{b:.4g}" for a, b in self.coupling_zones_mm)
+                     + " mm left to its model, which counts them)")
         return (f"cubot_cad.section: the printed {', '.join(self.parts)} cut by planes x = const at {self.stations} "
-                f"stations over {self.length_mm:g} mm, I(x) = integral z'^2 dA about each cut's own centroid "
+                f"stations over {self.length_mm:g} mm{zones}, I(x) = integral z'^2 dA about each cut's own centroid "
                 f"(OpenCascade surface properties; parts screwed together added without composite action; "
                 f"cover, connector blocks and rails left out), I_eff = L / integral dx / I(x) = "
                 f"{self.effective_second_moment_mm4:.4g} mm^4 (min {self.min_second_moment_mm4:.4g} mm^4 at "
@@ -99,12 +116,19 @@ def body_section(robot, roles: tuple[str, ...] = ("body",), stations: int = DEFA
     x0 = min(b[0] for b in boxes)
     x1 = max(b[3] for b in boxes)
     span = 4.0 * max(abs(v) for b in boxes for v in b) + 10.0  # a plane larger than any cut
-    length = x1 - x0
-    dx = length / stations
+    zones = tuple((float(a), float(b)) for a, b in getattr(robot, "coupling_zones_mm", ()))
+    for a, b in zones:
+        if not (math.isfinite(a) and math.isfinite(b) and a < b):
+            raise InputError(f"{robot.name}: coupling zone {a!r}..{b!r} mm is not an interval")
+    dx = (x1 - x0) / stations
+    xs = [x0 + (k + 0.5) * dx for k in range(stations)]
+    xs = [x for x in xs if not any(a < x < b for a, b in zones)]
+    if len(xs) < 4:
+        raise InputError(f"{robot.name}: its coupling zones leave {len(xs)} of {stations} section stations")
+    length = len(xs) * dx
     compliance = 0.0  # integral dx / I, mm^-3
     i_min, x_min, area_sum = math.inf, x0, 0.0
-    for k in range(stations):
-        x = x0 + (k + 0.5) * dx
+    for x in xs:
         cuts = [_cut(s, x, span) for s in shapes]
         area = sum(a for a, _ in cuts)
         i_x = sum(i for _, i in cuts)
@@ -118,7 +142,8 @@ def body_section(robot, roles: tuple[str, ...] = ("body",), stations: int = DEFA
     return BodySection(roles=tuple(roles), parts=tuple(dict.fromkeys(p.part.name for p in placed)),
                        stations=stations, length_mm=float(length), min_second_moment_mm4=float(i_min),
                        min_at_x_mm=float(x_min), effective_second_moment_mm4=float(length / compliance),
-                       mean_area_mm2=float(area_sum / stations))
+                       mean_area_mm2=float(area_sum / len(xs)), coupling_zones_mm=zones,
+                       kept_stations=len(xs))
 
 
 def body_section_fields(robot, stations: int = DEFAULT_STATIONS) -> dict:

@@ -110,6 +110,16 @@ class TestPlatform(Robot):
         return (self.length_mm, self.width_mm, self.thickness_mm)
 
     @property
+    def coupling_zones_mm(self) -> tuple[tuple[float, float], ...]:
+        """The lap joint's own material (robot frame, mm): the rear recess (to its end wall) and
+        the front tab. Its FE (:mod:`structure_fem.couplings.platform_bolt_fe`) counts both as the
+        joint's compliance beyond a continuous plate, so the body's bending section
+        (:mod:`cubot_cad.checks.section`) leaves them out: the body is the 5 mm plate the FE's
+        reference plate is."""
+        L, tl, c = self.length_mm, self.tab_length_mm, self.clearance_mm
+        return ((-L / 2, -L / 2 + tl + c), (L / 2, L / 2 + tl))
+
+    @property
     def wheel_exposed_mm(self) -> float:  # no wheels: the plate itself is the step it can climb
         return self.thickness_mm
 

@@ -128,19 +128,22 @@ def platform_from(props: RobotPropertiesFile | None) -> RobotProperties:
 
 
 def platform_tip_m(platform: RobotProperties, n: int, k: float, backlash: float,
-                   reading: Reading = HELD_READING) -> float:
-    """Free-end deflection (m) of ``n`` docked platforms set up as ``reading`` says, bolt (k, backlash)."""
+                   reading: Reading = HELD_READING, flexible: bool = False) -> float:
+    """Free-end deflection (m) of ``n`` docked platforms set up as ``reading`` says, bolt (k, backlash);
+    ``flexible``: each platform bends with the record's section (the CAD's plate,
+    ``body_second_moment_m4``) in series with the bolt, as the robots do in the tables."""
     conn = ConnectorSet.from_robot(platform)
     fr = replace(conn.front_rear, rotational_nm_per_rad=k, backlash_rad=backlash)
     conn = replace(conn, front_rear=fr)
-    return solve(reading.config(n), platform, conn).tip_deflection_m
+    return solve(reading.config(n), platform, conn, flexible=flexible).tip_deflection_m
 
 
-def _tip_or_inf(platform: RobotProperties, n: int, k: float, backlash: float, reading: Reading) -> float:
+def _tip_or_inf(platform: RobotProperties, n: int, k: float, backlash: float, reading: Reading,
+                flexible: bool = False) -> float:
     """:func:`platform_tip_m`, or infinity when the solve does not converge (a bolt so soft that
     the platforms fold over the edge: more than any finite tip)."""
     try:
-        return platform_tip_m(platform, n, k, backlash, reading)
+        return platform_tip_m(platform, n, k, backlash, reading, flexible)
     except SolverFailure:
         return math.inf
 
@@ -246,11 +249,22 @@ def fe_comparison(plat: RobotProperties, fits: tuple[ReadingFit, ...], cache_dir
             word, factor = "softer", f"{1 / hi:.3g}-{1 / lo:.3g}"
         else:
             word, factor = "bracketing", f"{lo:.3g}-{hi:.3g}"
-        tip = lambda kk, r=r: round(_tip_or_inf(plat, MEASURED_PLATFORMS, kk, fe.backlash_rad, r.reading) * 1e3, 3)  # noqa: E731
+        def tip(kk, flexible=False, r=r):
+            return round(_tip_or_inf(plat, MEASURED_PLATFORMS, kk, fe.backlash_rad, r.reading, flexible) * 1e3, 3)
+
         rows.append({"reading": r.reading.name, "fitted_nm_per_rad": round(r.stiffness_nm_per_rad, 4),
                      "fitted_backlash_rad": r.backlash_rad, "fe_over_fitted": round(lo, 4),
                      "fe_contact_over_fitted": round(hi, 4), "fe_is": word, "factor": factor,
-                     "fe_tip5_mm": tip(k), "fe_contact_tip5_mm": tip(kc), "measured_tip5_mm": MEASURED_TIP_M * 1e3})
+                     "fe_tip5_mm": tip(k), "fe_contact_tip5_mm": tip(kc),
+                     # the model as the tables run it: flexible platforms (the record's section of the
+                     # CAD's plate) + the FE's joint alone, per platform count 3, 4, 5
+                     "model_tips_mm": {str(n): round(_tip_or_inf(plat, n, fe.rotational_stiffness_nm_per_rad,
+                                                                  fe.backlash_rad, r.reading, True) * 1e3, 3)
+                                       for n in (3, 4, 5)},
+                     "model_tip5_mm": tip(fe.rotational_stiffness_nm_per_rad, True),
+                     "model_contact_tip5_mm": tip(fe.contact_rotational_stiffness_nm_per_rad, True),
+                     "measured_tip5_mm": MEASURED_TIP_M * 1e3})
+    geometry = one_geometry(plat, fe)
     return {"available": True, "where": where, "provenance": fe.provenance,
             "joint_stiffness_nm_per_rad": round(fe.rotational_stiffness_nm_per_rad, 4),
             "pitch_stiffness_nm_per_rad": round(k, 4),
@@ -258,10 +272,29 @@ def fe_comparison(plat: RobotProperties, fits: tuple[ReadingFit, ...], cache_dir
             "contact_joint_stiffness_nm_per_rad": round(fe.contact_rotational_stiffness_nm_per_rad, 4),
             "contact_pitch_stiffness_nm_per_rad": round(kc, 4),
             "fe_backlash_rad": fe.backlash_rad,
+            "one_geometry": geometry,
             "compared": ("pitch (joint + the two half plates, centre to centre) against the rigid-body fit, "
                          "which lumps the plates' bending into the joint; the FE as a bracket: abutting faces free "
                          "(lower bound) and their lower edge bearing (contact-closed)"),
             "readings": rows}
+
+
+def one_geometry(plat: RobotProperties, fe) -> dict:
+    """The platform's one geometry, seen by both models: the record's body section (the CAD's
+    plate, cut outside the lap joint: :mod:`cubot_cad.checks.section`) as a pitch ``E I / L``
+    beside the FE's continuous plate over the same pitch (``plate_pitch_stiffness_nm_per_rad``,
+    the reference the FE's joint is measured against). They differ by the 3D plate effects the
+    beam leaves out (Poisson's ratio across a 100 mm wide plate: up to ``1 / (1 - nu^2)``, 14 %),
+    not by a different plate; the record's source says how its section was cut."""
+    from structure_fem.model.bodies import body_bending
+
+    body = body_bending(plat)
+    beam = 1.0 / body.compliance_rad_per_nm
+    return {"record_body_second_moment_mm4": round(body.second_moment_m4 * 1e12, 3),
+            "record_section_source": body.source,
+            "record_plate_pitch_nm_per_rad": round(beam, 4),
+            "fe_plate_pitch_nm_per_rad": round(fe.plate_pitch_stiffness_nm_per_rad, 4),
+            "fe_over_record": round(fe.plate_pitch_stiffness_nm_per_rad / beam, 4)}
 
 
 @dataclass(frozen=True)
@@ -316,7 +349,33 @@ class Calibration:
             "readings_stiffness_ratio": round(spread, 4),
             "fe": self.fe,
             "fe_statement": fe_statement(self.fe),
+            "platform_test": platform_test(self.fe),
         }
+
+
+#: Thesis Ch. 6.5.2, the platform test as reported (mm; "slight" for three and four platforms).
+THESIS_PLATFORM_TEST = {"3": "slight", "4": "slight", "5": MEASURED_TIP_M * 1e3}
+
+
+def platform_test(fe: dict) -> dict:
+    """The thesis's platform test beside the model run with one set of inputs and nothing fitted:
+    the CAD's plate (the record's section, the FE's reference plate: :func:`one_geometry`) as
+    flexible platforms, the bolt's FE joint (faces free; faces bearing as the other end of the
+    bracket), no rotational play (head and nut clamp), per reading of the unstated set-up."""
+    if not fe or not fe.get("available"):
+        return {"available": False, "why": (fe or {}).get("why", "the FE of the platform bolt was not looked up")}
+    g = fe["one_geometry"]
+    rows = [{"reading": r["reading"], "model_tips_mm": r["model_tips_mm"],
+             "model_faces_bearing_tip5_mm": r["model_contact_tip5_mm"]} for r in fe["readings"]]
+    text = ("the thesis's platform test (Ch. 6.5.2: 3 and 4 platforms 'slight', 5 platforms 5 mm at the end) "
+            f"beside the model with one set of inputs, nothing fitted (the CAD's plate: I {g['record_body_second_moment_mm4']:.4g} "
+            f"mm^4, E I / L {g['record_plate_pitch_nm_per_rad']:.4g} N m/rad per platform, the FE's own plate "
+            f"{g['fe_plate_pitch_nm_per_rad']:.4g}; the bolt's FE joint {fe['joint_stiffness_nm_per_rad']:.4g} N m/rad, "
+            f"no rotational play): " + "; ".join(
+                f"{r['reading']} reading {' / '.join(f'{v:.3g}' for v in r['model_tips_mm'].values())} mm for 3 / 4 / 5 "
+                f"platforms ({r['model_faces_bearing_tip5_mm']:.3g} mm at 5 with the end faces bearing)" for r in rows)
+            + " against the thesis's slight / slight / 5 mm")
+    return {"available": True, "thesis": THESIS_PLATFORM_TEST, "inputs": g, "readings": rows, "statement": text}
 
 
 def fe_statement(fe: dict) -> str:

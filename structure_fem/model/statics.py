@@ -388,6 +388,34 @@ def _band_uf_cartesian(mbs, bands, keep: list, start: float = 0.0, power: int = 
     return f
 
 
+def _ground_contact_uf(mbs, eps: float, keep: list):
+    """The one-sided ground / pier contact: ``k_x u_x`` along x and ``0.5 k_z (z - sqrt(z^2 +
+    eps^2))`` along z (it pushes up only, smoothed over ``eps``). Symbolic (C++) under
+    ``SYMBOLIC``: exudyn differentiates a user-function connector numerically, so a table called
+    the Python form millions of times (measured on the 40 mm / x2 mass / x4 play table: 5.0 M calls,
+    the solves 55 s -> see docs/development.md)."""
+
+    def py(mbs_, t, item, u, v, k, d, off):
+        z = u[1]
+        return [k[0] * u[0], 0.5 * k[1] * (z - math.sqrt(z * z + eps * eps)), 0.0]
+
+    if not SYMBOLIC:
+        return py
+    import exudyn as exu
+    from exudyn.advancedUtilities import CreateSymbolicUserFunction
+
+    esym = exu.symbolic
+
+    def sym(mbs_, t, item, u, v, k, d, off):
+        z = u[1]
+        return [k[0] * u[0], 0.5 * k[1] * (z - esym.sqrt(z * z + eps * eps)), 0.0]
+
+    f = CreateSymbolicUserFunction(mbs, sym, "springForceUserFunction",
+                                   itemTypeName="ObjectConnectorCartesianSpringDamper")
+    keep.append(f)
+    return f
+
+
 def translational_bands(joint, count: int, force_scale_n: float) -> tuple[tuple[float, float, float, float], ...]:
     """``(closing, opening, e, k_reg)`` along x and z of a coupling (``count`` in parallel):
     the smoothing ``e`` keeps a coupling carrying ``force_scale_n`` (one body's weight) or more
@@ -496,9 +524,7 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
 
     eps = CONTACT_SMOOTHING_M
 
-    def contact(mbs_, t, item, u, v, k, d, off):
-        z = u[1]
-        return [k[0] * u[0], 0.5 * k[1] * (z - math.sqrt(z * z + eps * eps)), 0.0]
+    contact = _ground_contact_uf(mbs, eps, keep)
 
     # Piers: a node at the centre of each pier's top on a bilateral spring of the pier's stiffness
     # (added after every body's node: the first 3 n coordinates stay the bodies').

@@ -74,6 +74,17 @@ def _calibration() -> str:
 
     cal = calibrate(RobotPropertiesFile.load(default_properties_path()), None).to_dict()  # as `fem calibrate`
     out = []
+    test = cal.get("platform_test", {})
+    if test.get("available"):
+        out += ["**The platform test, one set of inputs, nothing fitted** (flexible platforms with the CAD's plate, "
+                "the bolt's FE joint; `fem calibrate` prints it first):", "",
+                "| | 3 platforms | 4 platforms | 5 platforms |", "|---|---|---|---|",
+                "| thesis Ch. 6.5.2 | " + " | ".join(f"{test['thesis'][n]}" + ("" if test["thesis"][n] == "slight" else " mm")
+                                                   for n in ("3", "4", "5")) + " |"]
+        out += [f"| model, `{r['reading']}` reading | " + " | ".join(f"{r['model_tips_mm'][n]:.3g} mm" for n in ("3", "4"))
+                + f" | {r['model_tips_mm']['5']:.3g} mm ({r['model_faces_bearing_tip5_mm']:.3g} faces bearing) |"
+                for r in test["readings"]]
+        out += ["", test["statement"] + ".", ""]
     for r in cal["readings"]:
         su = r["set_up"]
         rows = [f"**Reading `{r['reading']}`**: {r['description']} ({su['platforms']} platforms, {su['held']} held, "

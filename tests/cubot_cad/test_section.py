@@ -88,3 +88,25 @@ def test_bad_inputs_are_refused_with_the_value():
         cq.Workplane().box(10, 10, 10).translate((20, 0, 0)).val())
     with pytest.raises(InputError, match="no material"):
         body_section(_fake_robot(gap), stations=10)
+
+
+def test_coupling_zones_are_left_to_the_coupling_and_the_platform_is_its_5_mm_plate():
+    """The platform's lap joint (tab, recess) is its coupling's FE's; the body is the plate the FE's
+    reference is: b t^3 / 12 of the CAD's plate, and it moves with the plate's thickness."""
+    bar = cq.Workplane().box(100, 20, 10).val().fuse(cq.Workplane().box(20, 20, 4).translate((55, 0, -3)).val())
+    robot = _fake_robot(bar)
+    whole = body_section(robot, stations=12)
+    robot.coupling_zones_mm = ((50.0, 70.0),)
+    kept = body_section(robot, stations=12)
+    assert kept.effective_second_moment_mm4 == pytest.approx(20 * 10 ** 3 / 12, rel=1e-6)
+    assert whole.effective_second_moment_mm4 < 0.5 * kept.effective_second_moment_mm4
+    assert kept.kept_stations < 12 and "left to its model" in kept.source
+    plat = body_section(make_robot("platform"))
+    assert plat.effective_second_moment_mm4 == pytest.approx(100 * 5 ** 3 / 12, rel=1e-6)
+    from cubot_cad.robots.platform import TestPlatform
+
+    thin = body_section(TestPlatform(thickness_mm=4.0))
+    assert thin.effective_second_moment_mm4 == pytest.approx(100 * 4 ** 3 / 12, rel=1e-6)
+    robot.coupling_zones_mm = ((-60.0, 60.0),)
+    with pytest.raises(InputError, match="coupling zones leave"):
+        body_section(robot, stations=12)

@@ -71,3 +71,57 @@ def test_calibrate_reports_both_readings_and_where_the_robot_connectors_come_fro
     assert text.code == 0, text.err
     assert "reading held" in text.out and "reading crossing" in text.out
     assert "do not come from this bolt fit" in text.out
+
+
+@pytest.fixture(scope="module")
+def cad_cal():
+    """The calibration of the packaged record's platform (the CAD's), as `fem calibrate` runs it."""
+    from cubot_cad.properties import default_properties
+
+    return calibrate(default_properties())
+
+
+def test_the_platform_test_is_run_with_one_geometry_and_shown_beside_five_mm(cad_cal, cli):
+    """Issue 38, deliverable 4: the record's body section is the CAD's 5 mm plate (the lap joint's
+    tab and recess left to the bolt's FE, which counts them), the same plate the FE measures its
+    joint against; the model run that way (flexible platforms + the FE's joint) agrees with the
+    rigid platforms + the FE's whole pitch, and `fem calibrate` prints it beside the thesis's 5 mm."""
+    cal = cad_cal
+    fe = cal.fe
+    assert fe["available"], fe
+    g = fe["one_geometry"]
+    assert g["record_body_second_moment_mm4"] == pytest.approx(100 * 5 ** 3 / 12, rel=1e-3)  # b t^3 / 12
+    assert 1.0 <= g["fe_over_record"] < 1.0 / (1 - 0.35 ** 2)  # the FE's plate: the beam + at most the plate effect
+    for r in fe["readings"]:
+        assert r["model_tip5_mm"] == pytest.approx(r["fe_tip5_mm"], rel=0.03)  # one geometry, two ways
+        tips = [r["model_tips_mm"][n] for n in ("3", "4", "5")]
+        assert tips == sorted(tips) and r["model_tips_mm"]["5"] == r["model_tip5_mm"]
+        assert r["model_contact_tip5_mm"] < r["model_tip5_mm"]  # the faces bearing stiffen it
+    test = cal.to_dict()["platform_test"]
+    assert test["thesis"] == {"3": "slight", "4": "slight", "5": 5.0}
+    held, crossing = (next(r for r in test["readings"] if r["reading"] == n) for n in ("held", "crossing"))
+    # the unstated set-up matters more than the bolt: the two readings bracket the measured 5 mm
+    assert crossing["model_tips_mm"]["5"] < 5.0 < held["model_faces_bearing_tip5_mm"]
+    text = cli("fem", "calibrate")
+    assert text.code == 0 and text.out.startswith("the thesis's platform test")
+    assert "against the thesis's slight / slight / 5 mm" in text.out.splitlines()[0]
+
+
+def test_a_thinner_plate_in_the_record_deflects_the_model_more(cad_cal):
+    from dataclasses import replace
+
+    from cubot_cad.properties import default_properties
+    from structure_fem.analysis.calibration import one_geometry
+
+    cal = cad_cal
+    plat = platform_from(default_properties())
+    thin = replace(plat, body_second_moment_m4=plat.body_second_moment_m4 / 2)
+    fe_k = cal.fe["joint_stiffness_nm_per_rad"]
+    assert (platform_tip_m(thin, 5, fe_k, 0.0, HELD_READING, flexible=True)
+            > platform_tip_m(plat, 5, fe_k, 0.0, HELD_READING, flexible=True))
+    assert platform_tip_m(plat, 5, fe_k, 0.0, HELD_READING, flexible=True) > platform_tip_m(plat, 5, fe_k, 0.0, HELD_READING)
+
+    class _FE:
+        plate_pitch_stiffness_nm_per_rad = cal.fe["plate_pitch_stiffness_nm_per_rad"]
+
+    assert one_geometry(thin, _FE)["fe_over_record"] == pytest.approx(2 * one_geometry(plat, _FE)["fe_over_record"], rel=1e-3)

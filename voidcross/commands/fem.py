@@ -216,7 +216,8 @@ def run_study(args) -> int:
 
 def _readings_text(cal: dict) -> str:
     """Both readings of the platform measurement: fitted bolt, predicted tips, family."""
-    out = [f"platform bolt fitted to {cal['measurement']}; record's estimate "
+    out = [cal["platform_test"]["statement"]] if cal.get("platform_test", {}).get("available") else []
+    out += [f"platform bolt fitted to {cal['measurement']}; record's estimate "
            f"{cal['bolt_stiffness_estimate_nm_per_rad']:.4g} N m/rad"]
     for r in cal["readings"]:
         primary = " (primary: --connectors calibrated uses it)" if r["reading"] == cal["primary_reading"] else ""
