@@ -100,12 +100,15 @@ class Config:
     #: :func:`solve_uncached` falls back on when the free structure finds no equilibrium, to tell
     #: a structure that tips (the anchor has to pull it down) from a solver that failed.
     anchored: bool = False
+    #: A vertical load (N, downward) hung at the front end of the front body's underside: the
+    #: weights of a coupling bench test (:mod:`structure_fem.analysis.bench_test`); 0 in every table.
+    tip_load_n: float = 0.0
 
     def describe(self, robot: str = "") -> str:
         who = f"{robot} " if robot else ""
-        on = ""
+        on = f", {self.tip_load_n:g} N hung at the tip" if self.tip_load_n else ""
         if self.piers:
-            on = ", piers at " + ", ".join(f"{p.at_widths:g}" + (f" ({p.robots} robots)" if p.robots else "")
+            on += ", piers at " + ", ".join(f"{p.at_widths:g}" + (f" ({p.robots} robots)" if p.robots else "")
                                            for p in self.piers)
         return (f"{who}{self.structure.name} {self.rows} rows, {self.rows_over:g} over a "
                 f"{self.void_widths:g}-wide void ({self.phase}{on})")
@@ -486,6 +489,14 @@ def _solve_once(config: Config, robot: RobotProperties, conn: ConnectorSet, opti
     def local(i: int, p: tuple[float, float]) -> list[float]:
         cx, cz = lay.bodies[i].com_m
         return [p[0] - cx, p[1] - cz, 0.0]
+
+    if config.tip_load_n:
+        from exudyn.itemInterface import LoadForceVector
+
+        fb = lay.bodies[lay.front_body]
+        mt = mbs.AddMarker(MarkerBodyPosition(bodyNumber=objs[lay.front_body],
+                                              localPosition=local(lay.front_body, (fb.x_m + lay.length_m / 2, fb.z_m))))
+        mbs.AddLoad(LoadForceVector(markerNumber=mt, loadVector=[0.0, -float(config.tip_load_n), 0.0]))
 
     keep: list = []  # symbolic user functions must outlive the solve
     for c in lay.couplings:

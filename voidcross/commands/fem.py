@@ -23,6 +23,7 @@ EPILOG = """examples:
   voidcross fem table --clearance-mm 10 --properties exports/robot_properties.json --out /tmp/fem
   voidcross fem study --out results/fem-study  deflection plots and sensitivity
   voidcross fem calibrate --json               fit the test-platform bolt to the thesis's 5 mm
+  voidcross fem bench-example --out /tmp/m.json  the coupling bench test on the model (a SYNTHETIC --measured file)
   voidcross fem solve --structure line --rows 9 --over 4 --void 4
   voidcross fem solve --structure arch --lines 6 --layers 3 --taper-block-rows 5 --rows 30 --over 15 --void 15
                                                the thesis's tapering arch, core front at the far edge
@@ -232,6 +233,54 @@ def _readings_text(cal: dict) -> str:
     if cal.get("fe_statement"):
         out.append(cal["fe_statement"])
     return "\n".join(out)
+
+
+def _masses(text: str | None) -> tuple[float, ...] | None:
+    if text is None:
+        return None
+    items = [t.strip() for t in str(text).split(",")]
+    if not any(items) or "" in items:
+        raise InputError(f"--masses-kg {text!r}: give a comma list of masses in kg, e.g. 0,0.5,1,2")
+    try:
+        return tuple(float(t) for t in items)
+    except ValueError:
+        raise InputError(f"--masses-kg {text!r}: not a comma list of numbers (kg)") from None
+
+
+def run_bench_example(args) -> int:
+    """`fem bench-example`: the bench test of docs/measure-coupling.md on the model, written as a
+    ``--measured`` file labelled SYNTHETIC (the protocol's worked example, never a measurement)."""
+    from cubot_cad.jsonrecord import write_json_atomic
+    from structure_fem.analysis.bench_test import (
+        DEFAULT_MASSES_KG,
+        bench_test,
+        synthetic_measurement,
+    )
+    from structure_fem.outputs.runs import make_inputs
+
+    masses = _masses(args.masses_kg) or DEFAULT_MASSES_KG
+    path = out_file(args.out, "--out")
+    inp, _ = make_inputs(_opts(args))
+    test = bench_test(inp.robot, inp.connectors, masses, flexible=inp.flexible)
+    data = synthetic_measurement(test)
+    k, play, n = test.fit()
+    write_json_atomic(path, data)
+    payload = {"file": str(path), "robot": test.robot, "coupling": test.coupling, "synthetic": True,
+               "lever_mm": round(test.lever_m * 1e3, 3), "gauge_span_mm": round(test.span_m * 1e3, 3),
+               "readings": [{"mass_kg": r.mass_kg, "moment_nm": round(r.moment_nm, 5),
+                             "drop_near_mm": round(r.drop_near_m * 1e3, 4), "drop_far_mm": round(r.drop_far_m * 1e3, 4),
+                             "rotation_mrad": round(r.rotation_rad * 1e3, 4)} for r in test.readings],
+               "fit": {"rotational_stiffness_nm_per_rad": round(k, 3), "play_rad": play, "points": n},
+               "model_coupling": {"rotational_stiffness_nm_per_rad": round(inp.connectors.front_rear.rotational_nm_per_rad, 3),
+                                  "backlash_rad": inp.connectors.front_rear.backlash_rad}}
+    human = (f"wrote {path}: SYNTHETIC bench test of {test.robot}'s front_rear coupling (the model, not a measurement)\n"
+             + "\n".join(f"  {r['mass_kg']:g} kg: moment {r['moment_nm']:.4g} N m, gauges {r['drop_near_mm']:.3f} / "
+                         f"{r['drop_far_mm']:.3f} mm, rotation {r['rotation_mrad']:.3g} mrad" for r in payload["readings"])
+             + f"\n  fit: k = {k:.4g} N m/rad, play {play * 1e3:.3g} mrad over {n} points (the model's coupling: "
+               f"{payload['model_coupling']['rotational_stiffness_nm_per_rad']:.4g} N m/rad without the bodies' bending)"
+             + f"\n  use it: voidcross fem calibrate --measured {path}; voidcross fem table --measured {path}")
+    emit(args, payload, human)
+    return 0
 
 
 def run_calibrate(args) -> int:
@@ -569,6 +618,17 @@ def register(sub, common) -> None:
                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     _add_inputs(c)
     c.set_defaults(func=run_calibrate)
+
+    e = fs.add_parser("bench-example", parents=[common],
+                      help="the coupling bench test (docs/measure-coupling.md) run on the model: a SYNTHETIC "
+                           "--measured file",
+                      epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    e.add_argument("--out", required=True, metavar="JSON",
+                   help="the --measured file to write (labelled synthetic in its note)")
+    e.add_argument("--masses-kg", default=None, metavar="M1,M2,...",
+                   help="hung masses of the loading sequence (default 0,0.5,1,1.5,2,3)")
+    _add_inputs(e)
+    e.set_defaults(func=run_bench_example)
 
     o = fs.add_parser("solve", parents=[common], help="solve one configuration",
                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
