@@ -51,6 +51,43 @@ def deflection_plot(d: Derivation, path: str | Path) -> Path:
     return path
 
 
+def band_plot(band: dict, path: str | Path, title: str = "") -> Path:
+    """The uncertainty band per structure (:mod:`structure_fem.analysis.band`): every sample's
+    threshold (dots), p5-p95 (bar), p50 (tick), the nominal (as drawn, star) and the pick."""
+    plt = _plt()
+    per = band["per_structure"]
+    names = list(per)
+    fig, ax = plt.subplots(figsize=(9, 1.6 + 0.8 * len(names)))
+    rng = np.random.default_rng(0)  # jitter only, so equal thresholds do not hide each other
+    for i, s in enumerate(names):
+        v = per[s]
+        ax.plot([v["p5"], v["p95"]], [i, i], color="C0", lw=6, alpha=0.35, solid_capstyle="butt",
+                label="p5 - p95" if i == 0 else None)
+        xs = np.asarray(v["samples"], dtype=float)
+        ax.scatter(xs, i + rng.uniform(-0.18, 0.18, len(xs)), s=10, color="C0", alpha=0.6,
+                   label="samples" if i == 0 else None)
+        ax.plot([v["p50"]], [i], marker="|", ms=18, mew=2, color="C0", label="p50" if i == 0 else None)
+        ax.plot([v["nominal"]], [i], marker="*", ms=14, color="C3", label="nominal (as drawn)" if i == 0 else None)
+        ax.plot([min(v[band["pick"]], v["nominal"]) if band["pick"] != "nominal" else v["nominal"]], [i - 0.32],
+                marker="^", ms=8, color="k", label=f"picked ({band['pick']})" if i == 0 else None)
+    from matplotlib.ticker import MaxNLocator
+
+    ax.set_yticks(range(len(names)), names)
+    ax.set_ylim(-0.7, len(names) - 0.3)
+    every = [x for v in per.values() for x in (*v["samples"], v["nominal"])]
+    ax.set_xlim(min(every) - 0.6, max(every) + 0.6)
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+    ax.set_xlabel("threshold (robot widths): the widest void a print of the robot spans")
+    ax.set_title(title or f"uncertainty band of the thresholds ({len(band['samples'])} samples)")
+    ax.grid(True, axis="x", alpha=0.3)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
 def tapered_plot(d: Derivation, rows: list[TaperRow], path: str | Path) -> Path:
     """Tip deflection vs void width: the thesis's tapering arches (core front at the far edge, near
     foot only; bridged dashed) beside the derived uniform 2k x k arches, with the clearance."""

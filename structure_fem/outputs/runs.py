@@ -81,6 +81,11 @@ class RunOptions:
     sensitivity_dynamic: bool = False
     #: How couplings whose faces touch are modelled (:data:`structure_fem.model.hinge.HINGES`; ``--hinge``).
     hinge: str = "emergent"
+    #: Latin-hypercube samples of the thresholds' uncertainty band (:mod:`structure_fem.analysis.band`;
+    #: ``--band [N]``); 0: no band.
+    band_samples: int = 0
+    #: With a band: which thresholds the table and limits.json use (:data:`structure_fem.analysis.band.PICKS`).
+    pick: str = "p5"
 
     def __post_init__(self) -> None:
         from structure_fem.model.hinge import HINGES
@@ -91,6 +96,13 @@ class RunOptions:
             raise InputError(f"--connectors {self.connectors!r} is not one of {', '.join(CONNECTOR_SOURCES)}")
         if self.piers not in PIER_CHOICES:
             raise InputError(f"--piers {self.piers!r} is not one of {', '.join(PIER_CHOICES)}")
+        from structure_fem.analysis.band import PICKS
+
+        if isinstance(self.band_samples, bool) or not isinstance(self.band_samples, int) or not (
+                self.band_samples == 0 or 4 <= self.band_samples <= 1000):
+            raise InputError(f"--band {self.band_samples!r}: give 4 to 1000 samples (or leave --band out)")
+        if self.pick not in PICKS:
+            raise InputError(f"--pick {self.pick!r} is not one of {', '.join(PICKS)}")
 
 
 def load_file(opts: RunOptions) -> RobotPropertiesFile:
@@ -228,7 +240,16 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
     out = Path(out)
     inp, info = make_inputs(opts)  # bad input fails here, before anything is created
     d = derive(inp, progress, narrow=True)
+    band_record = None
+    if opts.band_samples:
+        from structure_fem.analysis.band import apply_pick, band
+
+        b = band(d, opts.band_samples, progress=progress)
+        nominal = apply_pick(d, b, opts.pick)
+        band_record = {"pick": opts.pick, "nominal_thresholds": nominal, **b.to_dict()}
     limits = limits_from(d) if d.levels else None
+    if limits is not None and band_record is not None:
+        limits = replace(limits, notes=limits.notes + " " + band_note(band_record))
     limits, piers, piers_why = with_piers(limits, inp, opts)
     rows = table(d, progress)
     tapered = tapered_arches(d, progress=progress)
@@ -248,6 +269,7 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
     from structure_fem.outputs.outputs import piers_markdown
 
     sect = margins_markdown(structures) + piers_markdown(piers, piers_why)
+    sect = band_markdown(band_record, BAND_PLOT if plots else None) + sect
     md = table_markdown(rows, d, limits, info, tapered_markdown(tapered, d, link)) + "\n" + sect
     files.update({
         "markdown": str(write_text_atomic(out / "selection_table.md", md)),
@@ -266,8 +288,14 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
         files["docs_markdown"] = str(write_text_atomic(Path(docs_dir) / "structure_fem_table.md", docs_md))
     if plots:
         files.update(write_plots(out, d))
+        if band_record is not None:
+            from structure_fem.outputs.plots import band_plot
+
+            files["band_plot"] = str(band_plot(band_record, out / BAND_PLOT))
     res = summary(d, limits, info, files, rows, tapered)
     res["structures"] = structures
+    if band_record is not None:
+        res["band"] = band_record
     res["piers"] = piers.to_dict() if piers is not None else {"rule": None, "why": piers_why}
     pier_failures = [("pier rule", f) for f in piers.failures] if piers is not None else []
     res.update(not_converged([("", f) for f in d.failures] + alt_failures + pier_failures))
@@ -278,6 +306,35 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
         res["warnings"].append(f"warning: {no_crossing(d)}; limits.json not written"
                                + (f" (the older {out / 'limits.json'} was removed)" if stale else ""))
     return res
+
+
+def band_note(band: dict) -> str:
+    """One sentence for limits.json's notes: which thresholds it holds and the band behind them."""
+    per = band["per_structure"]
+    return (f"Thresholds picked at {band['pick']} of an uncertainty band ({len(band['samples'])} Latin-hypercube "
+            f"samples over {', '.join(f['name'] for f in band['factors'])}): "
+            + ", ".join(f"{s} {v['p5']} / {v['p50']} / {v['p95']} (p5 / p50 / p95; nominal {v['nominal']})"
+                        for s, v in per.items()) + ".")
+
+
+#: File name of the band plot (beside the table, with --band).
+BAND_PLOT = "threshold_band.png"
+
+
+def band_markdown(band: dict | None, plot: str | None = None) -> str:
+    """The table's "Uncertainty band" section (empty without a band)."""
+    if band is None:
+        return ""
+    rows = ["## Uncertainty band", "", band["method"] + ".", "",
+            f"The table and limits.json use **{band['pick']}**"
+            + (" (what 95 % of printed robots span)" if band["pick"] == "p5" else "") + ".", "",
+            "| structure | nominal (as drawn) | p5 | p50 | p95 |", "|---|---:|---:|---:|---:|"]
+    rows += [f"| {s} | {v['nominal']} | {v['p5']} | {v['p50']} | {v['p95']} |" for s, v in band["per_structure"].items()]
+    if plot:
+        rows += ["", f"![uncertainty band of the thresholds]({plot})"]
+    rows += ["", "Inputs:", ""] + [f"- {f['name']}: {f['distribution']} on {f['applies_to']} ({f['source']})"
+                                   for f in band["factors"]]
+    return "\n".join(rows) + "\n\n"
 
 
 def no_crossing(d: Derivation) -> str:
@@ -403,8 +460,18 @@ def run_study(out: str | Path, opts: RunOptions = RunOptions(), progress: Progre
     out = Path(out)
     inp, info = make_inputs(opts)
     d = derive(inp, progress, extra=2)
+    band_record = None
+    if opts.band_samples:  # reported beside the curves; the study picks nothing
+        from structure_fem.analysis.band import band
+
+        band_record = {"pick": "nominal", "nominal_thresholds": {c.structure.name: c.threshold for c in d.curves},
+                       **band(d, opts.band_samples, progress=progress).to_dict()}
     out.mkdir(parents=True, exist_ok=True)
     files = write_plots(out, d)
+    if band_record is not None:
+        from structure_fem.outputs.plots import band_plot
+
+        files["band_plot"] = str(band_plot(band_record, out / BAND_PLOT))
     curves = io.StringIO()
     w = csv.writer(curves, lineterminator="\n")
     w.writerow(["structure", "width", "tip_deflection_mm", "tipping_factor", "rows", "robots"])
@@ -429,6 +496,7 @@ def run_study(out: str | Path, opts: RunOptions = RunOptions(), progress: Progre
             "sensitivity_criterion": ("static tip + launch allowance <= clearance" if sensitivity_dynamic(opts)
                                       else "static tip <= clearance"),
             "calibration": info, "sensitivity": sens, "files": files,
+            **({"band": band_record} if band_record is not None else {}),
             **not_converged([("", f) for f in d.failures] + sens_failures)}
 
 

@@ -19,6 +19,7 @@ from voidcross.output import emit, out_dir, out_file, progress
 EPILOG = """examples:
   voidcross fem table                          derived thresholds + table into results/fem
   voidcross fem table --json                   thresholds beside the thesis's 5/10/15/20/25/30
+  voidcross fem table --band --json            with the uncertainty band (p5 / p50 / p95), the table at p5
   voidcross fem table --caster                 strict clearance: the casters' exposed height
   voidcross fem table --clearance-mm 10 --properties exports/robot_properties.json --out /tmp/fem
   voidcross fem study --out results/fem-study  deflection plots and sensitivity
@@ -112,7 +113,8 @@ def _opts(args):
                       piers=getattr(args, "piers_rule", "auto"), dynamic=getattr(args, "dynamic", True),
                       damping_ratio=getattr(args, "damping_ratio", 0.02),
                       sensitivity_dynamic=getattr(args, "sensitivity_dynamic", False),
-                      hinge=getattr(args, "hinge", "emergent"))
+                      hinge=getattr(args, "hinge", "emergent"),
+                      band_samples=getattr(args, "band_samples", 0) or 0, pick=getattr(args, "pick", "p5"))
 
 
 def _bar(iterable, desc, total):
@@ -144,6 +146,7 @@ def run_table(args) -> int:
                          for r in res["calibration"].get("readings", ()))
              + "); not used for the CuBot's connectors (they come from FE / the record, "
              "`fem calibrate` says which)\n"
+             + _band_line(res.get("band"))
              + _tapered_line(res.get("thesis_tapering_arches"))
              + _piers_line(res.get("piers"))
              + _margins_lines(res.get("structures", []))
@@ -153,6 +156,14 @@ def run_table(args) -> int:
     _warn(res)
     emit(args, res, human)
     return 0
+
+
+def _band_line(band: dict | None) -> str:
+    if not band:
+        return ""
+    return (f"uncertainty band ({len(band['samples'])} samples; thresholds above at {band['pick']}): "
+            + ", ".join(f"{s} {v['p5']} / {v['p50']} / {v['p95']} (nominal {v['nominal']})"
+                        for s, v in band["per_structure"].items()) + " (p5 / p50 / p95)\n")
 
 
 def _margins_lines(structures: list[dict]) -> str:
@@ -601,12 +612,22 @@ def register(sub, common) -> None:
     t.add_argument("--full-json", action="store_true", help="include the table rows in --json output")
     t.add_argument("--piers", dest="piers_rule", choices=("auto", "none"), default="auto",
                    help="derive the pier (multi-span) rule into limits.json (auto, the default) or not (none)")
+    t.add_argument("--band", dest="band_samples", type=int, nargs="?", const=20, default=0, metavar="N",
+                   help="thresholds with an uncertainty band: N Latin-hypercube samples (default 20) over the "
+                        "print's play, coupling stiffness, modulus and the robot's mass; per structure p5 / p50 / "
+                        "p95 (minutes: a few solves per structure and sample, cached)")
+    t.add_argument("--pick", choices=("p5", "p50", "nominal"), default="p5",
+                   help="with --band: the thresholds the table and limits.json use (default p5: the width 95 %% "
+                        "of printed robots span; nominal: the robot as drawn)")
     _add_inputs(t)
     t.set_defaults(func=run_table)
 
     s = fs.add_parser("study", parents=[common], help="deflection vs width plots, side view, sensitivity",
                       epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     s.add_argument("--out", default="results/fem-study", help="output directory (default results/fem-study)")
+    s.add_argument("--band", dest="band_samples", type=int, nargs="?", const=20, default=0, metavar="N",
+                   help="also the thresholds' uncertainty band (N Latin-hypercube samples, default 20) and its plot "
+                        "threshold_band.png")
     s.add_argument("--sensitivity-dynamic", action="store_true",
                    help="the sensitivity grid by the table's criterion too (static tip + each grid point's own "
                         "launch allowance; its transients run side by side, cached: tens of minutes cold); "
