@@ -39,12 +39,13 @@ def pytest_configure(config):
 SPREAD = ("tests/structure_fem/test_never_crash.py", "tests/structure_fem/test_coupling_fe_rail_key.py")
 
 
-def pytest_collection_modifyitems(config, items):
-    root = Path(str(config.rootpath))
-    for item in items:
-        rel = Path(str(item.path)).relative_to(root).as_posix()
-        if rel not in SPREAD:
-            item.add_marker(pytest.mark.xdist_group(rel))
+def pytest_itemcollected(item):
+    """The file's group, set as each item is collected: xdist reads the groups into the node ids in
+    its own ``pytest_collection_modifyitems``, which ran before this conftest's (so the groups were
+    never seen and module fixtures were built once per worker)."""
+    rel = Path(str(item.path)).relative_to(Path(str(item.config.rootpath))).as_posix()
+    if rel not in SPREAD:
+        item.add_marker(pytest.mark.xdist_group(rel))
 
 
 def pytest_unconfigure(config):

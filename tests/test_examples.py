@@ -22,7 +22,7 @@ def _missing(module: str) -> bool:
 
 # (script, extra arguments, files it must write into OUT_DIR, modules it needs)
 CASES = [
-    ("deflection_study.py", ["--max-width", "6"], ["deflection_vs_width.png"], ["exudyn"]),
+    ("deflection_study.py", ["--max-width", "3"], ["deflection_vs_width.png"], ["exudyn"]),
     ("custom_preset.py", [], ["small-arena.toml", "runs.json"], []),
     ("sweep_plot.py", ["--robots", "2-3", "--void-widths", "1"], ["sweep.sqlite", "sweep.csv", "crossing_rate.png"],
      ["pandas"]),

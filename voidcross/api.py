@@ -549,9 +549,10 @@ def fem_table(properties: str | os.PathLike | None = None, robot: str = "cubot",
     if out is not None:
         from voidcross.output import out_dir
 
-        return records(run_table(out_dir(out, "out", create=False), opts, alternative=False, plots=False))
-    with tempfile.TemporaryDirectory(prefix="voidcross-fem-") as tmp:
-        return records(run_table(Path(tmp), opts, alternative=False, plots=False))
+        return records(run_table(out_dir(out, "out", create=False), opts, alternative=False, plots=False,
+                                 ranges=False))
+    with tempfile.TemporaryDirectory(prefix="voidcross-fem-") as tmp:  # the records carry no range: not solved
+        return records(run_table(Path(tmp), opts, alternative=False, plots=False, ranges=False))
 
 
 def deflection_curves(properties: str | os.PathLike | None = None, robot: str = "cubot",

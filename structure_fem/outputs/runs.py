@@ -86,6 +86,10 @@ class RunOptions:
     band_samples: int = 0
     #: With a band: which thresholds the table and limits.json use (:data:`structure_fem.analysis.band.PICKS`).
     pick: str = "p5"
+    #: ``fem table``: each structure's range over plausible inputs (:mod:`structure_fem.analysis.margins`:
+    #: print clearance 0.1 / 0.4 mm, printed modulus, solid parts, the worst case; about half of a
+    #: cold table's solves); False (``--no-ranges``): margins and what sets them without the range.
+    ranges: bool = True
 
     def __post_init__(self) -> None:
         from structure_fem.model.hinge import HINGES
@@ -255,7 +259,7 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
     tapered = tapered_arches(d, progress=progress)
     alt_failures = _alt_thresholds(inp, info, opts) if alternative else []
     info["body_bending"] = body_bending(d)
-    structures = structure_reports(d, ranges, progress)
+    structures = structure_reports(d, ranges and opts.ranges, progress)
     out.mkdir(parents=True, exist_ok=True)
     files: dict[str, str] = {}
     if plots and tapered:

@@ -42,7 +42,7 @@ def test_table_json_outputs_and_properties_change_the_table(cli, tmp_path, test_
     with monkeypatch.context() as m:  # the base table is compared by its thresholds and records only
         m.setattr(runs, "tapered_arches", lambda d, thesis=None, progress=None: [])
         base = cli("fem", "table", "--static", "--out", str(tmp_path / "base"), "--properties", str(test_properties),
-                   "--json", "--max-width", "8")
+                   "--json", "--max-width", "8", "--no-ranges")
     assert base.code == 0, base.err
     res = cli("fem", "table", "--static", "--out", str(tmp_path), "--properties", str(modified_properties), "--json",
               "--docs", str(tmp_path / "docs"), "--max-width", "8")
@@ -94,6 +94,27 @@ def test_table_json_outputs_and_properties_change_the_table(cli, tmp_path, test_
     docs_md = (tmp_path / "docs" / "structure_fem_table.md").read_text()
     assert "(img/thesis_tapering_arches.png)" in docs_md
     assert (tmp_path / "docs" / "img" / "thesis_tapering_arches.png").stat().st_size > 0
+
+
+def test_no_ranges_leaves_out_only_the_ranges(cli, tmp_path, test_properties, monkeypatch):
+    """`fem table --no-ranges` (issue 40: the ranges are about half of a cold table's solves): the
+    same thresholds, margins and limits.json byte for byte, the structures without their range."""
+    import structure_fem.outputs.runs as runs
+
+    monkeypatch.setattr(runs, "tapered_arches", lambda d, thesis=None, progress=None: [])
+
+    def run(name, *extra):
+        res = cli("fem", "table", "--static", "--properties", str(test_properties), "--max-width", "4", "--json",
+                  "--out", str(tmp_path / name), *extra)
+        assert res.code == 0, res.err
+        return res.json()
+
+    full, quick = run("full"), run("quick", "--no-ranges")
+    assert quick["thresholds"] == full["thresholds"] and quick["structures"]
+    assert (tmp_path / "quick" / "limits.json").read_bytes() == (tmp_path / "full" / "limits.json").read_bytes()
+    for a, b in zip(full["structures"], quick["structures"], strict=True):
+        assert "range" not in b and {k: v for k, v in a.items() if k != "range"} == b
+    assert any("range" in a for a in full["structures"])
 
 
 def test_caster_clearance_is_the_strict_alternative(cli, tmp_path):
@@ -237,7 +258,8 @@ def test_the_hinge_model_is_a_choice_and_the_lumped_one_is_the_earlier_model(cli
     monkeypatch.setattr(runs, "tapered_arches", lambda d, thesis=None, progress=None: [])
 
     def run(name, *extra):
-        res = cli("fem", "table", "--static", "--json", "--max-width", "6", "--out", str(tmp_path / name), *extra)
+        res = cli("fem", "table", "--static", "--json", "--max-width", "6", "--no-ranges", "--out", str(tmp_path / name),
+                  *extra)
         assert res.code == 0, res.err
         return res.json()
 

@@ -8,7 +8,9 @@ the structure and the width and an explicit ``converged: false`` entry in the JS
 an exit 1. Bad input (negative clearance, zero mass, a corrupt properties file) stays exit 2
 with one ``error:`` line naming the bad value.
 
-The grid runs with ``--static``: its subject is the static solver, and a cold launch transient
+The grid runs with ``--static`` and ``--no-ranges`` (the ranges' variants, print clearance 0.1 /
+0.4 mm, printed modulus, solid parts, lie inside the grid's own play and mass corners; the 40 mm
+test runs the whole path, ranges included): its subject is the static solver, and a cold launch transient
 per grid point (1-120 s each; the default criterion adds them, cached by input hash) would take
 the suite past its budget. The default (dynamic) criterion off the packaged cache is run by
 :func:`test_the_default_dynamic_table_integrates_what_is_not_cached` on a cheap case; a
@@ -92,7 +94,7 @@ def cheap_structures(monkeypatch):
 def test_table_succeeds_over_the_valid_range(cli, tmp_path, cheap_structures, clearance, mass, play):
     """The packaged CuBot, widths 1..8 (the reported failures were at 5..8 widths)."""
     res = cli("fem", "table", "--static", "--clearance-mm", str(clearance), "--mass-scale", str(mass),
-              "--backlash-scale", str(play), "--max-width", "8", "--out", str(tmp_path), "--json")
+              "--backlash-scale", str(play), "--max-width", "8", "--no-ranges", "--out", str(tmp_path), "--json")
     assert res.code == 0, res.err
     out = res.json()
     _assert_well_formed_table(tmp_path, out, 8)
@@ -126,9 +128,10 @@ def test_table_at_40_mm_clearance_succeeds(cli, tmp_path, monkeypatch):
     assert alt["line"] >= out["thresholds"]["line"]  # stiffer (calibrated) couplings cross no less
 
 
-def test_study_on_the_packaged_record_succeeds(cli, tmp_path):
+def test_study_on_the_packaged_record_succeeds(cli, tmp_path, cheap_structures):
     """Reported: `fem study` exited 1 on the packaged record (its robot mass x0.5 point: line
-    13 rows, 6 over a 6-wide void). The real command, sensitivity grid included, widths 1..6."""
+    13 rows, 6 over a 6-wide void). The real command, sensitivity grid included, widths 1..6, on
+    the line, the staggered two lines and the 4 x 2 arch (every structure: the 40 mm table above)."""
     res = cli("fem", "study", "--static", "--max-width", "6", "--out", str(tmp_path), "--json")
     assert res.code == 0, res.err
     out = res.json()
@@ -147,8 +150,8 @@ def test_table_with_the_robot_mass_halved_in_the_properties_file(cli, tmp_path, 
     cubot["mass_kg"] *= 0.5
     props = tmp_path / "robot_properties.json"
     props.write_text(json.dumps(d))
-    res = cli("fem", "table", "--static", "--properties", str(props), "--max-width", "8", "--out", str(tmp_path / "o"),
-              "--json")
+    res = cli("fem", "table", "--static", "--properties", str(props), "--max-width", "8", "--no-ranges",
+              "--out", str(tmp_path / "o"), "--json")
     assert res.code == 0, res.err
     _assert_well_formed_table(tmp_path / "o", res.json(), 8)
     assert res.json()["not_converged"] == []
@@ -162,7 +165,7 @@ def test_table_succeeds_for_every_shipped_robot(cli, tmp_path, robot, extreme):
     one warning saying so."""
     clearance, mass, play = extreme
     res = cli("fem", "table", "--static", "--robot", robot, "--clearance-mm", clearance, "--mass-scale", mass,
-              "--backlash-scale", play, "--max-width", "8", "--out", str(tmp_path), "--json")
+              "--backlash-scale", play, "--max-width", "8", "--no-ranges", "--out", str(tmp_path), "--json")
     assert res.code == 0, res.err
     out = res.json()
     _assert_well_formed_table(tmp_path, out, 8)
@@ -472,7 +475,8 @@ def test_the_default_dynamic_table_integrates_what_is_not_cached(cli, tmp_path, 
     import structure_fem.model.dynamics as dynamics
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
-    res = cli("fem", "table", "--clearance-mm", "3", "--max-width", "8", "--out", str(tmp_path / "a"), "--json")
+    res = cli("fem", "table", "--clearance-mm", "3", "--max-width", "8", "--no-ranges", "--out", str(tmp_path / "a"),
+              "--json")
     assert res.code == 0, res.err
     out = res.json()
     crossing = [r for r in out["structures"] if r["threshold"] >= 1]
@@ -486,6 +490,7 @@ def test_the_default_dynamic_table_integrates_what_is_not_cached(cli, tmp_path, 
         raise AssertionError("integrated a cached transient")
 
     monkeypatch.setattr(dynamics, "dynamic_allowance_m", boom)
-    again = cli("fem", "table", "--clearance-mm", "3", "--max-width", "8", "--out", str(tmp_path / "b"), "--json")
+    again = cli("fem", "table", "--clearance-mm", "3", "--max-width", "8", "--no-ranges", "--out", str(tmp_path / "b"),
+                "--json")
     assert again.code == 0, again.err
     assert again.json()["thresholds"] == out["thresholds"]

@@ -114,7 +114,8 @@ def _opts(args):
                       damping_ratio=getattr(args, "damping_ratio", 0.02),
                       sensitivity_dynamic=getattr(args, "sensitivity_dynamic", False),
                       hinge=getattr(args, "hinge", "emergent"),
-                      band_samples=getattr(args, "band_samples", 0) or 0, pick=getattr(args, "pick", "p5"))
+                      band_samples=getattr(args, "band_samples", 0) or 0, pick=getattr(args, "pick", "p5"),
+                      ranges=getattr(args, "ranges", True))
 
 
 def _bar(iterable, desc, total):
@@ -619,6 +620,9 @@ def register(sub, common) -> None:
     t.add_argument("--pick", choices=("p5", "p50", "nominal"), default="p5",
                    help="with --band: the thresholds the table and limits.json use (default p5: the width 95 %% "
                         "of printed robots span; nominal: the robot as drawn)")
+    t.add_argument("--no-ranges", dest="ranges", action="store_false", default=True,
+                   help="leave out each structure's range over print clearance, modulus and infill (about half "
+                        "of a cold table's solves; the thresholds, margins and limits.json are the same)")
     _add_inputs(t)
     t.set_defaults(func=run_table)
 
