@@ -558,7 +558,8 @@ def fem_table(properties: str | os.PathLike | None = None, robot: str = "cubot",
 def deflection_curves(properties: str | os.PathLike | None = None, robot: str = "cubot",
                       clearance_mm: float | None = None, caster: bool = False, connectors: str = "fe",
                       max_width_robots: int = 8, stiffness_scale: float = 1.0, backlash_scale: float = 1.0,
-                      mass_scale: float = 1.0, tipping: float = 1.0, flexible: bool = True) -> list[dict]:
+                      mass_scale: float = 1.0, tipping: float = 1.0, flexible: bool = True,
+                      dynamic: bool = True) -> list[dict]:
     """Tip deflection at the longest cantilever for each candidate structure and void width.
 
     What ``voidcross fem study`` writes to ``deflection_vs_width.csv`` and plots in
@@ -567,11 +568,13 @@ def deflection_curves(properties: str | os.PathLike | None = None, robot: str = 
     structure is solved at its minimal row count (the fewest rows that stand) with its front
     at the far edge, the worst moment of the launch; widths are those the threshold search
     solved (1..8 one by one, then doubling and bisection, 2 past the threshold), up to
-    ``max_width_robots``. ~4 s for 8 widths. Needs exudyn.
+    ``max_width_robots``. Tens of seconds cold on 2 cores (the arches' solves, and with ``dynamic``
+    the launch transients at each threshold), then served by the solve cache. Needs exudyn.
 
     Args:
         properties, robot, clearance_mm, caster, connectors, stiffness_scale, backlash_scale,
-            mass_scale, tipping, flexible: as :func:`fem_table`.
+            mass_scale, tipping, flexible, dynamic: as :func:`fem_table` (``dynamic`` sets only
+            ``threshold_widths``: static tip + launch allowance <= clearance, or the tip alone).
         max_width_robots: widest void studied, in robot widths.
 
     Returns:
@@ -597,7 +600,7 @@ def deflection_curves(properties: str | os.PathLike | None = None, robot: str = 
     from structure_fem.outputs.runs import make_inputs
 
     opts = _fem_options(properties, robot, clearance_mm, caster, connectors, max_width_robots, stiffness_scale,
-                        backlash_scale, mass_scale, tipping, flexible)
+                        backlash_scale, mass_scale, tipping, flexible, dynamic)
     inp, _ = make_inputs(opts)
     d = derive(inp, extra=2)
     for f in d.failures:  # never silent: a width whose solve did not converge counts as failing
