@@ -10,6 +10,11 @@ the checker itself is a miss. Misses are measured in worker processes, one coupl
 (:func:`measure_all`): the meshes travel as arrays (a Manifold does not pickle) and every
 measurement, in a worker or not, starts from those arrays, so the result does not depend on
 where it ran.
+
+The default robots' couplings at the default clearance (what ``cad dock`` measures on a fresh
+clone) ship in ``cubot_cad/data/capture_ranges.json`` under the same keys, read after the user's
+cache: a first ``cad dock`` is seconds, and a changed dimension, checker or manifold3d is still
+a miss. ``python -m cubot_cad.checks.capture_cache`` regenerates it (a test says when it is stale).
 """
 
 from __future__ import annotations
@@ -27,7 +32,9 @@ from cubot_cad.atomic import write_bytes
 from cubot_cad.checks import capture as C
 
 #: Bumped when a cached entry's meaning changes without the checker's source changing.
-CACHE_VERSION = 1
+CACHE_VERSION = 2
+#: The packaged captures of the default robots (:func:`write_packaged`).
+PACKAGED = Path(__file__).resolve().parents[1] / "data" / "capture_ranges.json"
 
 
 def cache_dir() -> Path:
@@ -63,8 +70,12 @@ def rebuilt(p: dict) -> C.CouplingGeometry:
 
 
 def key_of(name: str, p: dict, full_ladder: bool) -> str:
+    from importlib.metadata import version
+
     h = hashlib.sha256()
-    h.update(f"{CACHE_VERSION}|{name}|{full_ladder}|{p['start_mm']!r}|{p['step_mm']!r}".encode())
+    # the booleans' library too: another manifold3d may cut the meshes differently
+    h.update(f"{CACHE_VERSION}|{version('manifold3d')}|{name}|{full_ladder}|{p['start_mm']!r}|"
+             f"{p['step_mm']!r}".encode())
     h.update(Path(C.__file__).read_bytes())
     for arr in (*p["fixed"], *p["moving"], p["approach"], p["pivot"]):
         h.update(arr.tobytes())
@@ -84,12 +95,25 @@ def _from_json(d: dict) -> C.Capture:
                      [C.Entry(**e) for e in d["entries"]])
 
 
+def _packaged() -> dict:
+    try:
+        return json.loads(PACKAGED.read_text())["captures"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return {}  # none shipped (or unreadable): everything is measured
+
+
 def lookup(key: str) -> C.Capture | None:
+    """The user cache's entry, else the packaged one, else None (measure it)."""
     f = cache_dir() / f"{key}.json"
     try:
         return _from_json(json.loads(f.read_text()))
     except (OSError, ValueError, KeyError, TypeError):
-        return None  # absent or unreadable (a torn write is impossible: atomic): measure again
+        pass  # absent or unreadable (a torn write is impossible: atomic)
+    d = _packaged().get(key)
+    try:
+        return None if d is None else _from_json(d)
+    except (ValueError, KeyError, TypeError):
+        return None
 
 
 def store(key: str, cap: C.Capture) -> None:
@@ -139,3 +163,46 @@ def measure_all(jobs: list[tuple], workers: int | None = None, full_ladder: bool
             out[name] = _job(name, p, full_ladder)
             store(key, out[name])
     return {name: out[name] for _r, name, _p in jobs}
+
+
+def default_jobs() -> list[tuple]:
+    """``(robot, pair name, docked pair)`` of every default coupling at the default clearance."""
+    from cubot_cad.checks.docking import PAIRS, ROBOT_OF_PAIR, dock
+    from cubot_cad.robots.registry import make_robot
+
+    robots: dict = {}
+    jobs = []
+    for name in PAIRS:
+        r = ROBOT_OF_PAIR[name]
+        robots.setdefault(r, make_robot(r))
+        jobs.append((robots[r], name, dock(name)))
+    return jobs
+
+
+def packaged_keys(jobs: list[tuple] | None = None) -> dict[str, str]:
+    """``{pair name: key}`` the packaged file must hold (full ladder, as ``cad dock``)."""
+    out = {}
+    for r, name, pair in default_jobs() if jobs is None else jobs:
+        g = C.geometry(r, name, pair)
+        if g is not None:
+            out[name] = key_of(name, portable(g), True)
+    return out
+
+
+def write_packaged(workers: int | None = None) -> Path:
+    """Measure (or read from the user cache) every default coupling's full capture ladder and
+    write :data:`PACKAGED` atomically."""
+    jobs = default_jobs()
+    caps = measure_all(jobs, workers=workers, full_ladder=True)
+    keys = packaged_keys(jobs)
+    record = {"schema_version": 1,
+              "note": "capture ranges of the default robots' couplings at the default clearance (cad dock's "
+                      "full ladder), keyed by cubot_cad.checks.capture_cache.key_of: regenerate with "
+                      "`python -m cubot_cad.checks.capture_cache`",
+              "captures": {keys[n]: _to_json(c) for n, c in sorted(caps.items()) if c is not None}}
+    write_bytes(PACKAGED, (json.dumps(record, indent=1, sort_keys=True) + "\n").encode())
+    return PACKAGED
+
+
+if __name__ == "__main__":  # pragma: no cover
+    print(write_packaged())
