@@ -24,6 +24,7 @@ import json
 import os
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -95,7 +96,9 @@ def _from_json(d: dict) -> C.Capture:
                      [C.Entry(**e) for e in d["entries"]])
 
 
+@lru_cache(maxsize=1)
 def _packaged() -> dict:
+    """The packaged file's ``{key: capture}``, read once per process (:func:`write_packaged` clears it)."""
     try:
         return json.loads(PACKAGED.read_text())["captures"]
     except (OSError, ValueError, KeyError, TypeError):
@@ -201,6 +204,7 @@ def write_packaged(workers: int | None = None) -> Path:
                       "`python -m cubot_cad.checks.capture_cache`",
               "captures": {keys[n]: _to_json(c) for n, c in sorted(caps.items()) if c is not None}}
     write_bytes(PACKAGED, (json.dumps(record, indent=1, sort_keys=True) + "\n").encode())
+    _packaged.cache_clear()
     return PACKAGED
 
 
