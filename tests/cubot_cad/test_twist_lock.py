@@ -144,18 +144,21 @@ def test_locked_it_holds_open_it_lifts_out(cubot, pair):
     def robot_a(placed):
         return [manifold_of(p) for p in placed] + [to_manifold(h.shape) for h in cubot.hardware(placed)]
 
+    # each robot's manifolds built (and fused) once, then moved: the same solids at every height
+    b_locked = [union(robot_b(s.twist_deg))]
+    a_locked_all, a_open_all = [union(robot_a(a_closed))], [union(robot_a(a_open))]
     up = np.array([0.0, 0.0, play + LIFT_MM])
-    locked = _vol(_shift(robot_b(s.twist_deg), off + up), robot_a(a_closed))
+    locked = _vol(_shift(b_locked, off + up), a_locked_all)
     key_locked, _, _ = _turning(cubot, s.twist_deg)
     held = _vol(_shift([key_locked], off + up), [a_cover])
     assert held > 10 * HOLD_MM3 and locked >= held - 1e-6, (held, locked)
     # open: free at every height from docked to the key head above the collar
-    b_open = robot_b(0.0)
+    b_open = [union(robot_b(0.0))]
     top = s.collar_mm - s.head_z0_mm + 1.0
     for dz in np.linspace(0.0, top, 9)[1:]:
-        assert _vol(_shift(b_open, off + (0.0, 0.0, dz)), robot_a(a_open)) <= CONTACT_MM3, dz
+        assert _vol(_shift(b_open, off + (0.0, 0.0, dz)), a_open_all) <= CONTACT_MM3, dz
     # docked and locked with the locking key in: nothing interferes; turned back open it hits the locking key
-    assert _vol(_shift(robot_b(s.twist_deg), off), robot_a(a_closed)) <= CONTACT_MM3
+    assert _vol(_shift(b_locked, off), a_locked_all) <= CONTACT_MM3
     key_open, _, _ = _turning(cubot, 0.0)
     assert _vol(_shift([key_open], off), [lock]) > 10 * HOLD_MM3
 
