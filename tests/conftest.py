@@ -36,16 +36,25 @@ def pytest_configure(config):
 #: Files whose tests share no module-scoped fixture and together cost minutes: xdist spreads them
 #: test by test over the workers. Every other file stays whole on one worker (``xdist_group`` by
 #: file, ``make test`` runs ``--dist loadgroup``), so its module fixtures are built once.
-SPREAD = ("tests/structure_fem/test_never_crash.py", "tests/structure_fem/test_coupling_fe_rail_key.py")
+SPREAD = ("tests/structure_fem/test_never_crash.py",)
+
+
+#: Files that read the session's CAD export (``export_dir`` is the cad pipeline stage's export,
+#: ``tests/cubot_cad/conftest.py``) run as one group on one worker: the other worker never waits on
+#: the stage's lock, and the robots and docked pairs the stage builds in that process (OCC shapes,
+#: cached per process) are the ones these files use.
+GROUPS = {f"tests/cubot_cad/{name}.py": "tests/cubot_cad (the session's export)"
+          for name in ("test_cad_cli", "test_check", "test_export", "test_glb", "test_pier", "test_rail",
+                       "test_slicing")}
 
 
 def pytest_itemcollected(item):
-    """The file's group, set as each item is collected: xdist reads the groups into the node ids in
-    its own ``pytest_collection_modifyitems``, which ran before this conftest's (so the groups were
-    never seen and module fixtures were built once per worker)."""
+    """The file's group (or its entry in :data:`GROUPS`), set as each item is collected: xdist reads
+    the groups into the node ids in its own ``pytest_collection_modifyitems``, which ran before this
+    conftest's (so the groups were never seen and module fixtures were built once per worker)."""
     rel = Path(str(item.path)).relative_to(Path(str(item.config.rootpath))).as_posix()
     if rel not in SPREAD:
-        item.add_marker(pytest.mark.xdist_group(rel))
+        item.add_marker(pytest.mark.xdist_group(GROUPS.get(rel, rel)))
 
 
 def pytest_unconfigure(config):

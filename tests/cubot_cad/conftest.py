@@ -25,19 +25,30 @@ def pairs():
 
 
 @pytest.fixture(scope="session")
-def export_dir(once):
-    """A fresh `cad export --robot all` (STL + STEP + GLB, the CLI's default formats) with the
-    docked pairs checked and their measured gaps in the record, as the CLI does it. Built once
-    per session for all xdist workers (read-only for the tests)."""
+def export_dir(cad_pipeline):
+    """The session's `cad export --robot all` (STL + STEP + GLB, the CLI's default formats, docked
+    pairs checked and their measured gaps in the record, every part sliced with its print
+    settings): the cad pipeline stage's export, which is that command (read-only for the tests;
+    the files reading it share one worker, ``tests/conftest.py`` GROUPS)."""
+    return cad_pipeline[0]
+
+
+@pytest.fixture(scope="session")
+def unsliced_export(once):
+    """An export made by :func:`~cubot_cad.outputs.export.export_robots` itself, not the CLI, and
+    not sliced (STL only, the robots docked): for the tests about what that function writes and
+    about slicing an export afterwards. Three robots: one with a pier (the CuBot), one without
+    (the OctBot), the smallest (the platform)."""
 
     def build(out):
-        from cubot_cad.checks.docking import PAIRS, dock
-        from cubot_cad.outputs.export import DEFAULT_FORMATS, export_robots
-        from cubot_cad.robots.registry import ROBOT_NAMES
+        from cubot_cad.checks.docking import PAIRS, ROBOT_OF_PAIR, dock
+        from cubot_cad.outputs.export import export_robots
 
-        export_robots(ROBOT_NAMES, out, DEFAULT_FORMATS, "abs", 0.2, pairs=[dock(name) for name in PAIRS])
+        robots = ("cubot", "octbot", "platform")
+        export_robots(robots, out, ("stl",), "abs", 0.2,
+                      pairs=[dock(name) for name in PAIRS if ROBOT_OF_PAIR[name] in robots])
 
-    return once("export_dir", build)
+    return once("unsliced_export", build)
 
 
 @pytest.fixture(scope="session")

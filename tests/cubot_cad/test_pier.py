@@ -483,11 +483,11 @@ def top_down_robot():
     return make_robot("cubot")
 
 
-def test_export_robots_writes_the_fields_itself(export_dir, top_down):
-    """export_robots() (not only `cad export`) writes them: the session's export, docked."""
+def test_export_robots_writes_the_fields_itself(unsliced_export, top_down):
+    """export_robots() (not only `cad export`) writes them: an export of that function, docked."""
     from cubot_cad.properties import RobotPropertiesFile
 
-    props = RobotPropertiesFile.load(export_dir / "robot_properties.json")
+    props = RobotPropertiesFile.load(unsliced_export / "robot_properties.json")
     cub = props.get("cubot")
     assert cub.stack_pitch_m == top_down.offset_mm[2] / 1000 and "docked offset" in cub.stack_pitch_source
     assert cub.deck_height_m == pytest.approx(0.020, abs=GAP_TOLERANCE_MM / 1000) and "docked" in cub.deck_height_source

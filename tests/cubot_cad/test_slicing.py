@@ -293,13 +293,13 @@ def test_every_exported_part_slices_with_its_recorded_settings(cad_pipeline, req
         assert t["solid_over_printed_pct"] > 5, name
 
 
-def test_slice_manifest_slices_an_exports_parts(export_dir, require_tool):
+def test_slice_manifest_slices_an_exports_parts(unsliced_export, require_tool):
     """`cad check`'s path (slice_manifest) on one robot of an unsliced export: the same numbers
     as a part sliced alone, totals per robot."""
     require_tool(slicer_path(), "prusa-slicer")
     from cubot_cad.checks.slicing import slice_manifest
 
-    res = slice_manifest(export_dir, robots=("platform",))
+    res = slice_manifest(unsliced_export, robots=("platform",))
     assert res["parts"] and {r["robot"] for r in res["parts"]} == {"platform"}
     assert all(r["slice"]["ok"] and r["slice"]["printed_mass_g"] > 0 for r in res["parts"])
     t = res["robots"]["platform"]
