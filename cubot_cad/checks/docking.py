@@ -233,7 +233,6 @@ def _pair(name, robot_name, fixed_open, moving_open, fixed_closed, moving_closed
                       tuple(float(v) for v in offset), a_shapes, b_shapes)
 
 
-@lru_cache(maxsize=32)
 def dock(name: str, clearance_mm: float = DEFAULT_CLEARANCE_MM,
          misalign_mm: tuple[float, float, float] = (0.0, 0.0, 0.0), settings: tuple = ()) -> DockedPair:
     """Build and measure the docked pair ``name`` (one of :data:`PAIRS`) of the default robots, or of
@@ -241,13 +240,24 @@ def dock(name: str, clearance_mm: float = DEFAULT_CLEARANCE_MM,
 
     ``misalign_mm`` shifts B after docking before the closed-state interference
     is measured (a check that the measurement sees real overlaps).
+
+    Measured once per process for each robot (the registry's shared instance) and misalignment,
+    however the arguments are spelled: ``dock(n)``, ``dock(n, 0.2)`` and ``dock(n, 0.2,
+    settings=())`` are one pair (the cache was keyed by the spelling, so the cad stage, `cad dock`
+    and the pier docked the same pairs up to three times in one process).
     """
     check_clearance(clearance_mm, "--clearance-mm")
     if name not in PAIRS:
         raise InputError(f"docked pair {name!r} is not one of {', '.join(PAIRS)}")
     from cubot_cad.robots.registry import make_robot
 
-    return dock_robot(make_robot(ROBOT_OF_PAIR[name], clearance_mm, tuple(settings)), name, tuple(misalign_mm))
+    robot = make_robot(ROBOT_OF_PAIR[name], clearance_mm, tuple(settings))
+    return _dock_cached(robot, name, tuple(float(v) for v in misalign_mm))
+
+
+@lru_cache(maxsize=64)
+def _dock_cached(robot, name: str, misalign_mm: tuple[float, float, float]) -> DockedPair:
+    return dock_robot(robot, name, misalign_mm)
 
 
 def design_gap_mm(r, name: str) -> float:

@@ -118,3 +118,17 @@ def test_unknown_pair_is_an_input_error():
 
     with pytest.raises(InputError, match="no-such-pair"):
         dock("no-such-pair")
+
+
+def test_a_pair_is_measured_once_however_its_arguments_are_spelled(pairs):
+    """`dock` is keyed by the robot and the misalignment, not by how a caller spells the defaults:
+    the cad stage (``dock(n, 0.2)``), `cad dock` (``settings=()``) and the session's pairs
+    (``dock(n)``) share one measurement; another clearance or a misalignment is another pair."""
+    from cubot_cad.checks.docking import dock
+
+    p = pairs["platform-bolt"]
+    assert dock("platform-bolt", 0.2) is p
+    assert dock("platform-bolt", 0.2, settings=()) is p
+    assert dock("platform-bolt", 0.2, (0, 0, 0)) is p
+    assert dock("platform-bolt", 0.2, (0.0, 0.0, 0.5)) is not p
+    assert dock("platform-bolt", 0.3) is not p
