@@ -251,7 +251,11 @@ def dock(name: str, clearance_mm: float = DEFAULT_CLEARANCE_MM,
         raise InputError(f"docked pair {name!r} is not one of {', '.join(PAIRS)}")
     from cubot_cad.robots.registry import make_robot
 
-    robot = make_robot(ROBOT_OF_PAIR[name], clearance_mm, tuple(settings))
+    return dock_of(make_robot(ROBOT_OF_PAIR[name], clearance_mm, tuple(settings)), name, misalign_mm)
+
+
+def dock_of(robot, name: str, misalign_mm: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> DockedPair:
+    """:func:`dock_robot`, measured once per process for each (equal) robot, pair and misalignment."""
     return _dock_cached(robot, name, tuple(float(v) for v in misalign_mm))
 
 

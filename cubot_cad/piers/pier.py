@@ -74,7 +74,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import cached_property, lru_cache
+from functools import cached_property
 
 import numpy as np
 
@@ -125,18 +125,13 @@ def _check_robot(robot) -> None:
                          "(only the cubot)")
 
 
-@lru_cache(maxsize=16)
 def top_down_pair(robot):
-    """The measured ``cubot-top-down`` pair of ``robot`` (docked once per distinct robot)."""
-    from cubot_cad.checks.docking import dock, dock_robot
-    from cubot_cad.part import DEFAULT_CLEARANCE_MM
-    from cubot_cad.robots.registry import make_robot
+    """The measured ``cubot-top-down`` pair of ``robot`` (docking's own cache: docked once per
+    distinct robot, shared with every other caller of :func:`~cubot_cad.checks.docking.dock`)."""
+    from cubot_cad.checks.docking import dock_of
 
     _check_robot(robot)
-    if robot == make_robot("cubot", robot.clearance_mm):  # the default robot: share docking's own cache
-        c = robot.clearance_mm
-        return dock(PIER_PAIR) if c == DEFAULT_CLEARANCE_MM else dock(PIER_PAIR, c)
-    return dock_robot(robot, PIER_PAIR)
+    return dock_of(robot, PIER_PAIR)
 
 
 # -- measurements on one robot ------------------------------------------------------------------
