@@ -22,7 +22,10 @@ def _missing(module: str) -> bool:
 
 # (script, extra arguments, files it must write into OUT_DIR, modules it needs)
 CASES = [
-    ("deflection_study.py", ["--max-width", "3"], ["deflection_vs_width.png"], ["exudyn"]),
+    # --static: the tips and thresholds without the launch transients, which at a 3-wide cap are not
+    # the packaged table's (15 s of integration in two processes; the dynamic path is the table's,
+    # tested in tests/structure_fem and tests/voidcross/test_api.py)
+    ("deflection_study.py", ["--max-width", "3", "--static"], ["deflection_vs_width.png"], ["exudyn"]),
     ("custom_preset.py", [], ["small-arena.toml", "runs.json"], []),
     ("sweep_plot.py", ["--robots", "2-3", "--void-widths", "1"], ["sweep.sqlite", "sweep.csv", "crossing_rate.png"],
      ["pandas"]),
