@@ -40,14 +40,12 @@ SPREAD = ("tests/structure_fem/test_never_crash.py",)
 
 
 #: Files that read the session's CAD export (``export_dir`` is the cad pipeline stage's export,
-#: ``tests/cubot_cad/conftest.py``) or dock the default robots (the ``pairs`` fixture, the pier's
-#: and the twist key's pairs) run as one group on one worker: the other worker never waits on the
-#: stage's lock, and the robots and docked pairs (OCC shapes, built once per process) are built
-#: once in the session, not once in each worker.
-GROUPS = {f"tests/cubot_cad/{name}.py": "tests/cubot_cad (the session's export and docked pairs)"
+#: ``tests/cubot_cad/conftest.py``) run as one group on one worker: the other worker never waits on
+#: the stage's lock, and the robots and docked pairs the stage builds in that process (OCC shapes,
+#: cached per process) are the ones these files use.
+GROUPS = {f"tests/cubot_cad/{name}.py": "tests/cubot_cad (the session's export)"
           for name in ("test_cad_cli", "test_check", "test_export", "test_glb", "test_pier", "test_rail",
-                       "test_slicing", "test_capture", "test_clearance", "test_docking", "test_rail_screws",
-                       "test_twist_lock")}
+                       "test_slicing")}
 
 
 def pytest_itemcollected(item):
