@@ -36,6 +36,7 @@ MAX_ENTRIES = 50_000
 _CODE_HASH: str | None = None
 _CONN: sqlite3.Connection | None = None
 _CONN_PATH: Path | None = None
+_CONN_PID: int | None = None
 _FAILED = object()
 _PUTS = 0
 _LOCK_FD: int | None = None
@@ -70,9 +71,11 @@ def key_of(*inputs) -> str:
 
 
 def _db() -> sqlite3.Connection | None:
-    global _CONN, _CONN_PATH
+    """This process's connection (a forked worker opens its own: SQLite connections must not
+    cross a fork)."""
+    global _CONN, _CONN_PATH, _CONN_PID
     p = cache_path()
-    if _CONN is not None and _CONN_PATH == p:
+    if _CONN is not None and _CONN_PATH == p and _CONN_PID == os.getpid():
         return _CONN
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
@@ -82,7 +85,7 @@ def _db() -> sqlite3.Connection | None:
         c.execute("CREATE TABLE IF NOT EXISTS solves (key TEXT PRIMARY KEY, ok INTEGER, value BLOB, t REAL)")
     except (OSError, sqlite3.Error):
         return None
-    _CONN, _CONN_PATH = c, p
+    _CONN, _CONN_PATH, _CONN_PID = c, p, os.getpid()
     return c
 
 

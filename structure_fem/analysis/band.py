@@ -212,19 +212,43 @@ def banded_structures(d: Derivation) -> list[str]:
     return [n for n in dict.fromkeys(names) if any(c.structure.name == n for c in d.curves)]
 
 
+def _sample_thresholds(curves: list[Curve], inp: StudyInputs) -> list[int]:
+    """One sample's threshold for each curve's structure (a worker's job: picklable in and out)."""
+    return [sample_threshold(c, inp, c.threshold) for c in curves]
+
+
 def band(d: Derivation, n: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED,
          progress: Callable[[Iterable, str, int], Iterable] | None = None,
-         structures: list[str] | None = None) -> Band:
-    """The band of ``d``'s thresholds over :data:`FACTORS` (module docstring)."""
+         structures: list[str] | None = None, workers: int | None = None) -> Band:
+    """The band of ``d``'s thresholds over :data:`FACTORS` (module docstring).
+
+    The samples are independent: they run ``workers`` at a time in separate processes (default:
+    the launch transients' worker count, :func:`structure_fem.model.dynamics_cache.workers_default`,
+    i.e. the CPU count), sharing the solve cache; the band is the same whatever the count
+    (each sample's thresholds land in its own slot)."""
+    import concurrent.futures as cf
+    import multiprocessing as mp
+
+    from structure_fem.model.dynamics_cache import _context, workers_default
+
     names = banded_structures(d) if structures is None else list(structures)
     rows = samples(n, seed)
-    out: dict[str, list[int]] = {s: [] for s in names}
-    it = range(len(rows)) if progress is None else progress(range(len(rows)), "fem band samples", len(rows))
-    for i in it:
-        inp_i = perturbed(d.inputs, rows[i])
-        for s in names:
-            c = d.curve(s)
-            out[s].append(sample_threshold(c, inp_i, c.threshold))
+    curves = [d.curve(s) for s in names]
+    inputs = [perturbed(d.inputs, r) for r in rows]
+    workers = workers_default() if workers is None else workers
+    if mp.current_process().daemon:  # a pool's worker may not start processes of its own
+        workers = 1
+    wrap = progress or (lambda it, _label, _total: it)
+    per_sample: list[list[int] | None] = [None] * len(rows)
+    if workers <= 1:
+        for i in wrap(range(len(rows)), "fem band samples", len(rows)):
+            per_sample[i] = _sample_thresholds(curves, inputs[i])
+    else:
+        with cf.ProcessPoolExecutor(max_workers=min(workers, len(rows)), mp_context=_context()) as ex:
+            futs = {ex.submit(_sample_thresholds, curves, inp_i): i for i, inp_i in enumerate(inputs)}
+            for f in wrap(cf.as_completed(futs), "fem band samples", len(futs)):
+                per_sample[futs[f]] = f.result()
+    out = {s: [ts[k] for ts in per_sample] for k, s in enumerate(names)}
     return Band(names, {s: d.curve(s).threshold for s in names}, out, rows, seed)
 
 

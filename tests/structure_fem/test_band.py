@@ -83,10 +83,12 @@ def derivation():
 def test_the_band_moves_with_its_inputs_and_the_pick_retiles_the_table(derivation, monkeypatch):
     nominal = {c.structure.name: c.threshold for c in derivation.curves}
     assert nominal["line"] >= 1
-    b = band(derivation, n=6)
+    b = band(derivation, n=6, workers=2)
     for s in b.structures:
         q = b.quantiles[s]
         assert q[5] <= q[50] <= q[95] and len(b.thresholds[s]) == 6
+    # the samples run side by side in processes; in one process the band is the same, sample by sample
+    assert band(derivation, n=6, workers=1).thresholds == b.thresholds
     # no spread: every sample is the drawn robot, the band is the nominal threshold
     exact = tuple(replace(f, kind="normal", mean=1.0, sd=1e-9, low=0.0) for f in FACTORS)
     monkeypatch.setattr(bandmod, "FACTORS", exact)
