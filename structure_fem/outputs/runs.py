@@ -243,6 +243,53 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
     """
     out = Path(out)
     inp, info = make_inputs(opts)  # bad input fails here, before anything is created
+    ahead = prefetch_tapered(inp)
+    try:
+        return _run_table(out, opts, inp, info, docs_dir, progress, alternative, plots, ranges, ahead)
+    finally:
+        if ahead is not None and ahead.is_alive():
+            ahead.terminate()
+        if ahead is not None:
+            ahead.join()
+
+
+def prefetch_tapered(inp: StudyInputs):
+    """Start solving the thesis's tapering arches (:func:`tapered_arches`) in a second process while
+    this one derives, and return it (None where it would not help).
+
+    The tapering arches are the table's longest sequential part (the 8 x 4 arch's widest voids:
+    2.5 of a cold table's 6 minutes), and they depend only on the inputs, not on the derivation.
+    The second process's static solves land in the solve cache
+    (:mod:`structure_fem.solve_cache`); when the table reaches the tapering arches it reads them, or
+    waits on the claim of the one being solved, so the rows are the same, bit for bit, as solved
+    here. Nothing is started when the solve cache is off or cannot be written (the work would be
+    lost), when one worker is asked for (``VOIDCROSS_TRANSIENT_WORKERS=1``), inside a pool's worker,
+    or when the robot cannot build the tapering arches. The process writes nothing but the cache."""
+    import multiprocessing as mp
+
+    from structure_fem import solve_cache
+    from structure_fem.analysis.study import tapered_not_applicable
+    from structure_fem.model.dynamics_cache import _context, workers_default
+
+    if (not solve_cache.enabled() or workers_default() < 2 or mp.current_process().daemon
+            or tapered_not_applicable(inp.connectors, inp.robot.name) or solve_cache._db() is None):
+        return None
+    p = _context().Process(target=_tapered_ahead, args=(inp,), daemon=True, name="voidcross-tapered-arches")
+    p.start()
+    return p
+
+
+def _tapered_ahead(inp: StudyInputs) -> None:
+    """:func:`prefetch_tapered`'s process: the tapering arches on an empty derivation (their rows are
+    thrown away; their solves stay in the cache). A failure here is the table's to meet and report."""
+    try:
+        tapered_arches(Derivation(inp, [], []))
+    except BaseException:  # noqa: BLE001 - the table solves (and reports) whatever is missing itself
+        pass
+
+
+def _run_table(out: Path, opts: RunOptions, inp: StudyInputs, info: dict, docs_dir, progress, alternative: bool,
+               plots: bool, ranges: bool, ahead) -> dict:
     d = derive(inp, progress, narrow=True)
     band_record = None
     if opts.band_samples:
@@ -257,6 +304,8 @@ def run_table(out: str | Path, opts: RunOptions = RunOptions(), docs_dir: str | 
     limits, piers, piers_why = with_piers(limits, inp, opts)
     rows = table(d, progress)
     tapered = tapered_arches(d, progress=progress)
+    if ahead is not None:
+        ahead.join()  # it solved the same arches: done, or about to be
     alt_failures = _alt_thresholds(inp, info, opts) if alternative else []
     info["body_bending"] = body_bending(d)
     structures = structure_reports(d, ranges and opts.ranges, progress)

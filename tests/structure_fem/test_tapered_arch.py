@@ -175,3 +175,30 @@ def test_once_a_tapering_arch_hangs_into_the_void_wider_voids_are_collapsed_not_
         assert r.bridged_max_mm == 10.0 and (not r.passes if collapsed else True)
     assert d.other_failures == []
     assert len([1 for _, _, phase in calls if phase == "bridged"]) == 20
+
+
+def test_the_table_solves_the_tapering_arches_ahead_in_a_second_process(robot, monkeypatch):
+    """`fem table` starts the tapering arches in a second process while it derives
+    (``runs.prefetch_tapered``): every solve they need is then in the solve cache, so the table's
+    own pass solves nothing (here: a solver that fails if called). Not started where it cannot
+    help: the cache off, one worker asked for."""
+    import structure_fem.model.statics as statics
+    from structure_fem.analysis.study import Derivation, StudyInputs, tapered_arches
+    from structure_fem.outputs.runs import prefetch_tapered
+
+    inp = StudyInputs.for_robot(robot, clearance_mm=40.0, max_width=8)  # arches that stand: real solves
+    ahead = prefetch_tapered(inp)
+    assert ahead is not None
+    ahead.join(timeout=300)
+    assert ahead.exitcode == 0
+    solved: list = []
+    real = statics.solve_uncached
+    monkeypatch.setattr(statics, "solve_uncached", lambda *a, **k: solved.append(a) or real(*a, **k))
+    rows = tapered_arches(Derivation(inp, [], []))
+    assert len(rows) == 20 and any(r.tip_mm is not None for r in rows)
+    assert solved == []  # every solve was the second process's
+    monkeypatch.setenv("VOIDCROSS_TRANSIENT_WORKERS", "1")
+    assert prefetch_tapered(inp) is None
+    monkeypatch.setenv("VOIDCROSS_TRANSIENT_WORKERS", "2")
+    monkeypatch.setenv("VOIDCROSS_SOLVE_CACHE", "0")
+    assert prefetch_tapered(inp) is None
