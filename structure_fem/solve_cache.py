@@ -47,6 +47,11 @@ def enabled() -> bool:
     return os.environ.get("VOIDCROSS_SOLVE_CACHE", "1") not in ("0", "false", "no", "off")
 
 
+def writable() -> bool:
+    """Whether this process can keep solves in the cache (on, and its file opens)."""
+    return enabled() and _db() is not None
+
+
 def cache_path() -> Path:
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     return Path(base) / "voidcross" / "solves.sqlite"

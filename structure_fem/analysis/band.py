@@ -229,7 +229,7 @@ def band(d: Derivation, n: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED,
     import concurrent.futures as cf
     import multiprocessing as mp
 
-    from structure_fem.model.dynamics_cache import _context, workers_default
+    from structure_fem.model.dynamics_cache import process_context, workers_default
 
     names = banded_structures(d) if structures is None else list(structures)
     rows = samples(n, seed)
@@ -244,7 +244,7 @@ def band(d: Derivation, n: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED,
         for i in wrap(range(len(rows)), "fem band samples", len(rows)):
             per_sample[i] = _sample_thresholds(curves, inputs[i])
     else:
-        with cf.ProcessPoolExecutor(max_workers=min(workers, len(rows)), mp_context=_context()) as ex:
+        with cf.ProcessPoolExecutor(max_workers=min(workers, len(rows)), mp_context=process_context()) as ex:
             futs = {ex.submit(_sample_thresholds, curves, inp_i): i for i, inp_i in enumerate(inputs)}
             for f in wrap(cf.as_completed(futs), "fem band samples", len(futs)):
                 per_sample[futs[f]] = f.result()

@@ -232,7 +232,7 @@ def workers_default() -> int:
     return os.cpu_count() or 1
 
 
-def _context():
+def process_context():
     """Fork where there is fork: the workers start at once with everything imported, and a
     caller's script needs no ``if __name__ == "__main__"`` guard (spawn re-imports it). The
     static model and the transients are single-threaded (exudyn's solvers run here without
@@ -282,7 +282,7 @@ def prefill(jobs, workers: int | None = None, cache_dir: Path | None = None, pro
         for j in wrap(order, label, len(order)):
             keep(_run_job(j, cache_dir))
         return len(order)
-    with cf.ProcessPoolExecutor(max_workers=min(workers, len(order)), mp_context=_context()) as ex:
+    with cf.ProcessPoolExecutor(max_workers=min(workers, len(order)), mp_context=process_context()) as ex:
         futs = [ex.submit(_run_job, j, cache_dir) for j in order]
         for f in wrap(cf.as_completed(futs), label, len(futs)):
             keep(f.result())

@@ -269,12 +269,12 @@ def prefetch_tapered(inp: StudyInputs):
 
     from structure_fem import solve_cache
     from structure_fem.analysis.study import tapered_not_applicable
-    from structure_fem.model.dynamics_cache import _context, workers_default
+    from structure_fem.model.dynamics_cache import process_context, workers_default
 
-    if (not solve_cache.enabled() or workers_default() < 2 or mp.current_process().daemon
-            or tapered_not_applicable(inp.connectors, inp.robot.name) or solve_cache._db() is None):
+    if (workers_default() < 2 or mp.current_process().daemon or not solve_cache.writable()
+            or tapered_not_applicable(inp.connectors, inp.robot.name)):
         return None
-    p = _context().Process(target=_tapered_ahead, args=(inp,), daemon=True, name="voidcross-tapered-arches")
+    p = process_context().Process(target=_tapered_ahead, args=(inp,), daemon=True, name="voidcross-tapered-arches")
     p.start()
     return p
 
